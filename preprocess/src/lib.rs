@@ -1,0 +1,1 @@
+//! Offline pass (skeleton).

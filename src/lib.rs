@@ -1,0 +1,1 @@
+//! acuity: perceptual level-of-detail selection.
