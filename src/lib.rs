@@ -1,1 +1,64 @@
 //! acuity: perceptual level-of-detail selection.
+//!
+//! Each object keeps several discrete LODs; every frame acuity picks the
+//! coarsest one whose removed detail the viewer cannot see, from the
+//! object's angular size, its retinal velocity and its eccentricity from
+//! the gaze (Reddy 1998, 2001). The offline pass (crate
+//! `acuity-preprocess`, driven by the `acuity` tool) measures which
+//! spatial frequencies each LOD transition removes and stores them in a
+//! [`Profile`]; this crate reads profiles and selects.
+//!
+//! Units: angles in degrees, spatial frequency in cycles per degree
+//! (`_cpd`) or cycles per object diameter (`_cdiam`), velocity in deg/s,
+//! time in seconds; world lengths in any one unit.
+//!
+//! Modules: [`acuity`] (the model), [`display`], [`camera`], [`select`]
+//! (the per-frame loop), [`schedule`] (fixed frame rate), [`profile`]
+//! (the file format).
+
+#![forbid(unsafe_code)]
+
+pub mod acuity;
+pub mod camera;
+pub mod display;
+mod error;
+pub mod fastmath;
+pub mod profile;
+pub mod schedule;
+pub mod select;
+#[cfg(feature = "tools")]
+pub mod tools;
+mod viewpoints;
+
+pub use crate::acuity::Components;
+pub use crate::camera::{Camera, Gaze, Tracker};
+pub use crate::display::Display;
+pub use crate::error::{Error, Result};
+pub use crate::profile::Profile;
+pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
+pub use crate::select::{
+    BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId, Selection, Selector,
+    SelectorSettings, ViewpointRule,
+};
+
+/// A small valid profile for documentation examples.
+#[doc(hidden)]
+pub fn profile_for_docs() -> Profile {
+    let transitions = (0..3)
+        .map(|t| profile::TransitionFrequencies {
+            lowest_cdiam: Some(400.0 / (1 << t) as f32),
+            histogram: vec![],
+        })
+        .collect();
+    Profile {
+        format_version: profile::PROFILE_FORMAT_VERSION,
+        name: "docs".into(),
+        lod_triangles: vec![4000, 1000, 250, 60],
+        bounding_radius: 1.0,
+        viewpoints: vec![[0.0, 0.0, 1.0]],
+        histogram_edges_cdiam: vec![],
+        transitions,
+        settings: Default::default(),
+        inputs: vec![],
+    }
+}

@@ -1,1 +1,123 @@
-fn main() {}
+//! `acuity`: the command-line tool. Run `acuity --help`.
+
+use std::process::ExitCode;
+
+use acuity::tools::thresholds::ThresholdReport;
+use acuity::{Display, acuity::acuity_cpd, acuity::threshold_cpd};
+use clap::{Args, Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "acuity",
+    version,
+    about = "Perceptual level-of-detail selection from a model of visual acuity"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Where a display lets detail drop: xi, eccentricity and velocity
+    /// thresholds (Reddy 1998 §4).
+    Thresholds(DisplayArgs),
+    /// The threshold frequency for one velocity and eccentricity.
+    Acuity {
+        /// Retinal velocity, deg/s.
+        #[arg(long, default_value_t = 0.0)]
+        velocity: f32,
+        /// Eccentricity from the gaze, deg.
+        #[arg(long, default_value_t = 0.0)]
+        eccentricity: f32,
+        /// Global scale factor s in (0, 1].
+        #[arg(long, default_value_t = 1.0)]
+        scale: f32,
+        #[command(flatten)]
+        display: DisplayArgs,
+    },
+}
+
+/// A display, by field of view or by physical size and distance.
+#[derive(Args)]
+struct DisplayArgs {
+    /// Resolution in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x1024", value_parser = parse_pair::<u32>)]
+    resolution: (u32, u32),
+    /// Field of view in degrees, HORIZxVERT.
+    #[arg(long, value_parser = parse_pair::<f32>, conflicts_with_all = ["screen_cm", "distance_cm"])]
+    fov: Option<(f32, f32)>,
+    /// Physical image size in cm, WIDTHxHEIGHT (with --distance-cm).
+    #[arg(long, value_parser = parse_pair::<f32>, requires = "distance_cm")]
+    screen_cm: Option<(f32, f32)>,
+    /// Viewing distance in cm (with --screen-cm).
+    #[arg(long, requires = "screen_cm")]
+    distance_cm: Option<f32>,
+}
+
+impl DisplayArgs {
+    fn display(&self) -> acuity::Result<Display> {
+        let res = [self.resolution.0, self.resolution.1];
+        match (self.fov, self.screen_cm, self.distance_cm) {
+            (_, Some((w, h)), Some(d)) => Display::from_physical(res, [w, h], d),
+            (Some((h, v)), _, _) => Display::new(res, [h, v]),
+            _ => Display::new(res, [53.1, 41.1]),
+        }
+    }
+}
+
+fn parse_pair<T: std::str::FromStr>(text: &str) -> Result<(T, T), String> {
+    let (a, b) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not of the form AxB"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<T>()
+            .map_err(|_| format!("`{s}` in `{text}` is not a number"))
+    };
+    Ok((parse(a)?, parse(b)?))
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            // One clear line: clap's first, without its usage footer.
+            let text = e.to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("invalid arguments"));
+            return ExitCode::from(2);
+        }
+    };
+    let result = match cli.command {
+        Command::Thresholds(display) => display
+            .display()
+            .map(|d| print!("{}", ThresholdReport::new(d))),
+        Command::Acuity {
+            velocity,
+            eccentricity,
+            scale,
+            display,
+        } => display.display().and_then(|d| {
+            if !(scale > 0.0 && scale <= 1.0) {
+                return Err(acuity::Error::InvalidParameter {
+                    name: "scale",
+                    reason: format!("{scale} is not in (0, 1]"),
+                });
+            }
+            let h = acuity_cpd(velocity, eccentricity);
+            let xi = d.max_frequency_cpd();
+            println!("acuity H: {h:.3} c/deg");
+            println!("display limit xi: {xi:.3} c/deg");
+            println!("threshold T: {:.3} c/deg", threshold_cpd(h, xi, scale));
+            Ok(())
+        }),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

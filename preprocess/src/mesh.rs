@@ -1,0 +1,643 @@
+//! Indexed triangle meshes and the OBJ/MTL loader.
+//!
+//! # Loading rules (decided here; see the tests in `tests/bad_obj.rs`)
+//! - **Text**: UTF-8 (a BOM is skipped), UTF-16 LE/BE with a BOM (decoded),
+//!   anything else is read byte-wise with invalid UTF-8 replaced (so Latin-1
+//!   comments and names are harmless: keywords and numbers are ASCII).
+//!   Lines end with `\n`, `\r\n` or a lone `\r`. `#` starts a comment.
+//! - **`v x y z [w]`** or **`v x y z r g b`** (vertex colour, linear RGB,
+//!   clamped to `[0, 1]`). Any other count is an error. `w` is the weight of
+//!   rational curves and has no meaning for polygons: it must be a finite
+//!   number and is otherwise ignored. A coordinate that is not a finite `f32`
+//!   (`nan`, `inf`, or `1e39`, which overflows `f32`) is an error naming the
+//!   line, even when no face uses that vertex.
+//! - **`vn x y z`**: finite numbers. Normals from the file are used only when
+//!   every face corner names one; otherwise all normals are computed (below).
+//! - **`vt`**: counted (texture coordinates are not used; indices to them are
+//!   still range-checked).
+//! - **`f`**: at least 3 corners `v`, `v/vt`, `v//vn` or `v/vt/vn`; negative
+//!   indices are relative. An index of 0, or one that refers to an element
+//!   not defined *before* the face line, is an error. Polygons are
+//!   triangulated as a fan from their first corner (like tinyobjloader;
+//!   correct for convex polygons, which is what exporters write).
+//! - **`p`, `l`**: points and lines are never turned into triangles. A file
+//!   with points or lines but no faces is an error; in a file with faces
+//!   they are ignored.
+//! - **`mtllib`, `usemtl`**: the diffuse colour `Kd` (linear RGB) of the
+//!   material is used. A missing MTL file or an unknown material name gives a
+//!   *warning* and the default colour (the geometry is still right and
+//!   exporters often omit the MTL). A present but malformed MTL file is an
+//!   *error* naming the MTL file and line. Textures and other MTL keywords
+//!   are ignored.
+//! - **Colour** of a corner: vertex colour × `Kd` when both exist, either
+//!   one alone, else [`DEFAULT_COLOR_LINEAR`].
+//! - **Computed normals** are smooth: area-weighted face normals summed over
+//!   every corner at the same position (so material seams do not crease the
+//!   shading). For flat shading, put normals in the file.
+//! - Other keywords (`o`, `g`, `s`, `vp`, curves, ...) are ignored.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use crate::Error;
+
+/// Colour used when a face has neither a vertex colour nor a material:
+/// linear RGB 0.5 (sRGB about 188), a mid grey.
+pub const DEFAULT_COLOR_LINEAR: [f32; 3] = [0.5, 0.5, 0.5];
+
+/// An indexed triangle mesh, ready to render.
+///
+/// All per-vertex arrays have the same length; `indices.len()` is a multiple
+/// of 3 and every index is below the vertex count. Units of `positions` are
+/// the model's own (whatever the file uses).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions, model units.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals.
+    pub normals: Vec<[f32; 3]>,
+    /// Vertex colours, linear RGB in `[0, 1]` (vertex colour × material
+    /// diffuse colour, already multiplied).
+    pub colors: Vec<[f32; 3]>,
+    /// Triangle list, counter-clockwise front faces (the renderer lights
+    /// both sides, so winding errors in files do not matter).
+    pub indices: Vec<u32>,
+    /// Whether `normals` were computed (smooth) rather than read from the
+    /// file; simplification recomputes computed normals.
+    pub normals_computed: bool,
+}
+
+/// A loaded mesh and the non-fatal problems met while loading it.
+#[derive(Debug, Clone)]
+pub struct LoadedMesh {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Human-readable warnings, each naming the file (and line where known).
+    pub warnings: Vec<String>,
+}
+
+impl Mesh {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Checks the invariants listed on [`Mesh`] plus at least one triangle
+    /// and finite positions; the message says what is wrong.
+    pub fn check(&self) -> Result<(), String> {
+        let n = self.positions.len();
+        if self.normals.len() != n || self.colors.len() != n {
+            return Err(format!(
+                "attribute lengths differ: {} positions, {} normals, {} colours",
+                n,
+                self.normals.len(),
+                self.colors.len()
+            ));
+        }
+        if self.indices.is_empty() {
+            return Err("mesh has no triangles".into());
+        }
+        if !self.indices.len().is_multiple_of(3) {
+            return Err(format!(
+                "index count {} is not a multiple of 3",
+                self.indices.len()
+            ));
+        }
+        if let Some(i) = self.indices.iter().find(|&&i| i as usize >= n) {
+            return Err(format!("index {i} out of range ({n} vertices)"));
+        }
+        if let Some(p) = self
+            .positions
+            .iter()
+            .find(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(format!("non-finite position {p:?}"));
+        }
+        Ok(())
+    }
+
+    /// Bounding sphere: centre of the axis-aligned bounding box and the
+    /// largest distance from it to a vertex used by a triangle. Model units.
+    /// Not the minimal sphere, but deterministic and at most about 15% larger.
+    pub fn bounding_sphere(&self) -> ([f32; 3], f32) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for &i in &self.indices {
+            let p = Vec3::from(self.positions[i as usize]);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        if !lo.is_finite() {
+            return ([0.0; 3], 0.0);
+        }
+        let c = (lo + hi) * 0.5;
+        let r = self
+            .indices
+            .iter()
+            .map(|&i| Vec3::from(self.positions[i as usize]).distance(c))
+            .fold(0.0f32, f32::max);
+        (c.into(), r)
+    }
+
+    /// Replaces `normals` by smooth area-weighted normals, summed over all
+    /// vertices with bit-identical positions. Degenerate spots get +Z.
+    pub fn compute_smooth_normals(&mut self) {
+        let mut by_pos: HashMap<[u32; 3], Vec3> = HashMap::new();
+        let key = |p: [f32; 3]| [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()];
+        for t in self.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(self.positions[i as usize]));
+            // Cross product length = 2 * area: area weighting for free.
+            let n = (b - a).cross(c - a);
+            if !n.is_finite() {
+                continue;
+            }
+            for &i in t {
+                *by_pos
+                    .entry(key(self.positions[i as usize]))
+                    .or_insert(Vec3::ZERO) += n;
+            }
+        }
+        self.normals = self
+            .positions
+            .iter()
+            .map(|&p| {
+                by_pos
+                    .get(&key(p))
+                    .and_then(|n| n.try_normalize())
+                    .unwrap_or(Vec3::Z)
+                    .into()
+            })
+            .collect();
+        self.normals_computed = true;
+    }
+}
+
+/// Reads and parses an OBJ file; MTL files named by `mtllib` are looked up
+/// relative to the OBJ's folder. See the module docs for the rules.
+pub fn load_obj(path: &Path) -> Result<LoadedMesh, Error> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let dir = path.parent().map(Path::to_owned).unwrap_or_default();
+    let mut resolve = |name: &str| {
+        let p = dir.join(name);
+        std::fs::read(&p).map(|b| (p, b))
+    };
+    parse_obj(&bytes, path, &mut resolve)
+}
+
+/// How [`parse_obj`] finds an MTL file named by `mtllib`: given the name as
+/// written, return the resolved path and its bytes, or an I/O error (which
+/// becomes a warning).
+pub type MtlResolver<'a> = dyn FnMut(&str) -> std::io::Result<(PathBuf, Vec<u8>)> + 'a;
+
+/// Parses OBJ bytes. `path` is only used in messages. Never panics.
+pub fn parse_obj(
+    bytes: &[u8],
+    path: &Path,
+    resolve_mtl: &mut MtlResolver<'_>,
+) -> Result<LoadedMesh, Error> {
+    let text = decode_text(bytes, path)?;
+    let perr = |line: usize, message: String| Error::Parse {
+        path: path.to_owned(),
+        line,
+        message,
+    };
+
+    let mut positions: Vec<[f32; 3]> = Vec::new();
+    let mut vcolors: Vec<Option<[f32; 3]>> = Vec::new();
+    let mut normals: Vec<[f32; 3]> = Vec::new();
+    let mut texcoord_count = 0usize;
+    let mut points_lines = 0usize;
+    let mut warnings = Vec::new();
+    let mut warned_w = false;
+    // Materials: name -> Kd. Names are looked up when `usemtl` is seen.
+    let mut materials: HashMap<String, Option<[f32; 3]>> = HashMap::new();
+    let mut current_kd: Option<[f32; 3]> = None;
+    // Unified vertices: (position, normal or MAX, colour bits) -> index.
+    let mut corners: Vec<(u32, u32, Option<[f32; 3]>)> = Vec::new();
+    let mut corner_map: HashMap<(u32, u32, [u32; 3], bool), u32> = HashMap::new();
+    let mut indices: Vec<u32> = Vec::new();
+    let mut all_have_normals = true;
+
+    for (line_idx, raw) in split_lines(&text).enumerate() {
+        let line_no = line_idx + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut toks = content.split_whitespace();
+        let Some(kw) = toks.next() else { continue };
+        match kw {
+            "v" => {
+                let nums = parse_numbers(toks, line_no, "v", path)?;
+                let (p, c) = match nums.len() {
+                    3 => ([nums[0], nums[1], nums[2]], None),
+                    4 => {
+                        if nums[3] != 1.0 && !warned_w {
+                            warned_w = true;
+                            warnings.push(format!(
+                                "{}:{line_no}: vertex weight w = {} ignored (w only applies to rational curves)",
+                                path.display(),
+                                nums[3]
+                            ));
+                        }
+                        ([nums[0], nums[1], nums[2]], None)
+                    }
+                    6 => (
+                        [nums[0], nums[1], nums[2]],
+                        Some([nums[3], nums[4], nums[5]].map(|x| x.clamp(0.0, 1.0))),
+                    ),
+                    n => {
+                        return Err(perr(
+                            line_no,
+                            format!(
+                                "`v` needs 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b), found {n}"
+                            ),
+                        ));
+                    }
+                };
+                positions.push(p);
+                vcolors.push(c);
+            }
+            "vn" => {
+                let nums = parse_numbers(toks, line_no, "vn", path)?;
+                if nums.len() != 3 {
+                    return Err(perr(
+                        line_no,
+                        format!("`vn` needs 3 numbers, found {}", nums.len()),
+                    ));
+                }
+                normals.push([nums[0], nums[1], nums[2]]);
+            }
+            "vt" => texcoord_count += 1,
+            "p" | "l" => points_lines += 1,
+            "f" => {
+                let mut face: Vec<u32> = Vec::new();
+                for tok in toks {
+                    let (vi, ni) =
+                        parse_corner(tok, positions.len(), texcoord_count, normals.len())
+                            .map_err(|m| perr(line_no, m))?;
+                    let ni_key = match ni {
+                        Some(n) => n as u32,
+                        None => {
+                            all_have_normals = false;
+                            u32::MAX
+                        }
+                    };
+                    let color = match (vcolors[vi], current_kd) {
+                        (Some(v), Some(k)) => Some([v[0] * k[0], v[1] * k[1], v[2] * k[2]]),
+                        (Some(v), None) => Some(v),
+                        (None, Some(k)) => Some(k),
+                        (None, None) => None,
+                    };
+                    let cb = color.unwrap_or([0.0; 3]).map(f32::to_bits);
+                    let key = (vi as u32, ni_key, cb, color.is_some());
+                    let idx = *corner_map.entry(key).or_insert_with(|| {
+                        corners.push((vi as u32, ni_key, color));
+                        (corners.len() - 1) as u32
+                    });
+                    face.push(idx);
+                }
+                if face.len() < 3 {
+                    return Err(perr(
+                        line_no,
+                        format!(
+                            "face with {} corner(s); a face needs at least 3",
+                            face.len()
+                        ),
+                    ));
+                }
+                for k in 1..face.len() - 1 {
+                    indices.extend_from_slice(&[face[0], face[k], face[k + 1]]);
+                }
+            }
+            "mtllib" => {
+                let names: Vec<&str> = toks.collect();
+                if names.is_empty() {
+                    warnings.push(format!(
+                        "{}:{line_no}: `mtllib` without a file name",
+                        path.display()
+                    ));
+                }
+                for name in names {
+                    match resolve_mtl(name) {
+                        Ok((mtl_path, mtl_bytes)) => {
+                            for (k, v) in parse_mtl(&mtl_bytes, &mtl_path, &mut warnings)? {
+                                materials.insert(k, v);
+                            }
+                        }
+                        Err(e) => warnings.push(format!(
+                            "{}:{line_no}: material library `{name}` not read ({e}); default colour used",
+                            path.display()
+                        )),
+                    }
+                }
+            }
+            "usemtl" => {
+                let name = content
+                    .trim_start()
+                    .strip_prefix("usemtl")
+                    .unwrap_or("")
+                    .trim();
+                current_kd = match materials.get(name) {
+                    Some(kd) => *kd,
+                    None => {
+                        warnings.push(format!(
+                            "{}:{line_no}: unknown material `{name}`; default colour used",
+                            path.display()
+                        ));
+                        None
+                    }
+                };
+            }
+            _ => {}
+        }
+    }
+
+    let invalid = |message: String| Error::InvalidMesh {
+        path: path.to_owned(),
+        message,
+    };
+    if indices.is_empty() {
+        return Err(invalid(if points_lines > 0 {
+            format!(
+                "no faces: the file has only points/lines ({points_lines} `p`/`l` statements), which are never turned into triangles"
+            )
+        } else if positions.is_empty() {
+            "empty mesh: no vertices and no faces".to_string()
+        } else {
+            format!(
+                "no faces ({} vertices but no `f` statements)",
+                positions.len()
+            )
+        }));
+    }
+
+    let use_file_normals = all_have_normals && !normals.is_empty();
+    let mut mesh = Mesh {
+        positions: corners.iter().map(|c| positions[c.0 as usize]).collect(),
+        normals: corners
+            .iter()
+            .map(|c| {
+                if use_file_normals {
+                    Vec3::from(normals[c.1 as usize])
+                        .try_normalize()
+                        .unwrap_or(Vec3::Z)
+                        .into()
+                } else {
+                    [0.0, 0.0, 1.0]
+                }
+            })
+            .collect(),
+        colors: corners
+            .iter()
+            .map(|c| c.2.unwrap_or(DEFAULT_COLOR_LINEAR))
+            .collect(),
+        indices,
+        normals_computed: false,
+    };
+    if !use_file_normals {
+        mesh.compute_smooth_normals();
+    }
+    mesh.check().map_err(invalid)?;
+    Ok(LoadedMesh { mesh, warnings })
+}
+
+/// A material: its name and diffuse colour `Kd` (linear RGB), if any.
+type Material = (String, Option<[f32; 3]>);
+
+/// Parses an MTL file into material name -> diffuse colour (linear RGB,
+/// `None` when the material has no usable `Kd`).
+fn parse_mtl(
+    bytes: &[u8],
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Material>, Error> {
+    let text = decode_text(bytes, path)?;
+    let perr = |line: usize, message: String| Error::Parse {
+        path: path.to_owned(),
+        line,
+        message,
+    };
+    let mut out: Vec<Material> = Vec::new();
+    for (line_idx, raw) in split_lines(&text).enumerate() {
+        let line_no = line_idx + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut toks = content.split_whitespace();
+        let Some(kw) = toks.next() else { continue };
+        match kw {
+            "newmtl" => {
+                let name = content
+                    .trim_start()
+                    .strip_prefix("newmtl")
+                    .unwrap_or("")
+                    .trim();
+                if name.is_empty() {
+                    return Err(perr(line_no, "`newmtl` without a name".into()));
+                }
+                out.push((name.to_string(), None));
+            }
+            "Kd" => {
+                let Some(last) = out.last_mut() else {
+                    return Err(perr(line_no, "`Kd` before any `newmtl`".into()));
+                };
+                let rest: Vec<&str> = toks.collect();
+                if matches!(rest.first(), Some(&"spectral") | Some(&"xyz")) {
+                    warnings.push(format!(
+                        "{}:{line_no}: `Kd {}` is not supported; default colour used",
+                        path.display(),
+                        rest[0]
+                    ));
+                    continue;
+                }
+                let nums = parse_numbers(rest.into_iter(), line_no, "Kd", path)?;
+                let kd = match nums.len() {
+                    1 => [nums[0]; 3],
+                    3 => [nums[0], nums[1], nums[2]],
+                    n => {
+                        return Err(perr(
+                            line_no,
+                            format!("`Kd` needs 1 or 3 numbers, found {n}"),
+                        ));
+                    }
+                };
+                last.1 = Some(kd.map(|x| x.clamp(0.0, 1.0)));
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
+/// Parses finite `f32`s; the message names the keyword and the bad token.
+fn parse_numbers<'a>(
+    toks: impl Iterator<Item = &'a str>,
+    line: usize,
+    kw: &str,
+    path: &Path,
+) -> Result<Vec<f32>, Error> {
+    let mut out = Vec::with_capacity(4);
+    for t in toks {
+        match t.parse::<f32>() {
+            Ok(x) if x.is_finite() => out.push(x),
+            Ok(_) => {
+                return Err(Error::Parse {
+                    path: path.to_owned(),
+                    line,
+                    message: format!(
+                        "`{kw}`: `{t}` is not a finite 32-bit number (NaN, infinite or beyond ±3.4e38)"
+                    ),
+                });
+            }
+            Err(_) => {
+                return Err(Error::Parse {
+                    path: path.to_owned(),
+                    line,
+                    message: format!("`{kw}`: `{t}` is not a number"),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Parses one face corner `v[/vt[/vn]]` into 0-based (position, normal).
+fn parse_corner(
+    tok: &str,
+    n_pos: usize,
+    n_tex: usize,
+    n_norm: usize,
+) -> Result<(usize, Option<usize>), String> {
+    let parts: Vec<&str> = tok.split('/').collect();
+    if parts.len() > 3 {
+        return Err(format!("face corner `{tok}` has more than 3 parts"));
+    }
+    let resolve = |s: &str, count: usize, what: &str| -> Result<Option<usize>, String> {
+        if s.is_empty() {
+            return Ok(None);
+        }
+        let x: i64 = s
+            .parse()
+            .map_err(|_| format!("face corner `{tok}`: `{s}` is not an integer index"))?;
+        let idx = if x > 0 {
+            x - 1
+        } else if x < 0 {
+            count as i64 + x
+        } else {
+            return Err(format!(
+                "face corner `{tok}`: {what} index 0 (OBJ indices start at 1)"
+            ));
+        };
+        if idx < 0 || idx >= count as i64 {
+            return Err(format!(
+                "face corner `{tok}`: {what} index {x} out of range ({count} {what}s defined before this line)"
+            ));
+        }
+        Ok(Some(idx as usize))
+    };
+    let v = resolve(parts[0], n_pos, "position")?
+        .ok_or_else(|| format!("face corner `{tok}` has no position index"))?;
+    if let Some(t) = parts.get(1) {
+        resolve(t, n_tex, "texture coordinate")?;
+    }
+    let n = match parts.get(2) {
+        Some(s) => resolve(s, n_norm, "normal")?,
+        None => None,
+    };
+    Ok((v, n))
+}
+
+/// Decodes UTF-8 (BOM skipped), UTF-16 with BOM, or lossy bytes.
+pub(crate) fn decode_text(bytes: &[u8], path: &Path) -> Result<String, Error> {
+    let utf16 = |be: bool| -> Result<String, Error> {
+        let body = &bytes[2..];
+        if !body.len().is_multiple_of(2) {
+            return Err(Error::InvalidMesh {
+                path: path.to_owned(),
+                message: "UTF-16 text (byte-order mark) with an odd number of bytes".into(),
+            });
+        }
+        let units: Vec<u16> = body
+            .chunks_exact(2)
+            .map(|c| {
+                if be {
+                    u16::from_be_bytes([c[0], c[1]])
+                } else {
+                    u16::from_le_bytes([c[0], c[1]])
+                }
+            })
+            .collect();
+        Ok(String::from_utf16_lossy(&units))
+    };
+    match bytes {
+        [0xFF, 0xFE, ..] => utf16(false),
+        [0xFE, 0xFF, ..] => utf16(true),
+        [0xEF, 0xBB, 0xBF, rest @ ..] => Ok(String::from_utf8_lossy(rest).into_owned()),
+        _ => Ok(String::from_utf8_lossy(bytes).into_owned()),
+    }
+}
+
+/// Splits on `\n`, `\r\n` and lone `\r`, keeping line numbers right.
+pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let s = rest?;
+        match s.find(['\n', '\r']) {
+            Some(i) => {
+                let skip = if s[i..].starts_with("\r\n") { 2 } else { 1 };
+                rest = Some(&s[i + skip..]);
+                Some(&s[..i])
+            }
+            None => {
+                rest = None;
+                if s.is_empty() { None } else { Some(s) }
+            }
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(s: &str) -> Result<LoadedMesh, Error> {
+        parse_obj(s.as_bytes(), Path::new("t.obj"), &mut |_| {
+            Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+        })
+    }
+
+    #[test]
+    fn quad_becomes_two_triangles_with_smooth_normals() {
+        let m = parse("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
+            .unwrap()
+            .mesh;
+        assert_eq!(m.triangle_count(), 2);
+        assert!(m.normals_computed);
+        for n in &m.normals {
+            assert!((n[2] - 1.0).abs() < 1e-6);
+        }
+        assert_eq!(m.colors[0], DEFAULT_COLOR_LINEAR);
+    }
+
+    #[test]
+    fn line_numbers_count_cr_lf_and_lone_cr() {
+        let e = parse("v 0 0 0\r\nv 1 0 0\rv 1 nan 0\n").unwrap_err();
+        assert!(matches!(e, Error::Parse { line: 3, .. }), "{e}");
+    }
+
+    #[test]
+    fn relative_indices_and_vertex_colours() {
+        let m = parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf -3 -2 -1\n")
+            .unwrap()
+            .mesh;
+        assert_eq!(m.indices, vec![0, 1, 2]);
+        assert_eq!(m.colors[1], [0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn split_lines_handles_endings() {
+        let v: Vec<&str> = split_lines("a\r\nb\rc\n\nd").collect();
+        assert_eq!(v, ["a", "b", "c", "", "d"]);
+    }
+}

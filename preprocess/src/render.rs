@@ -1,0 +1,744 @@
+//! One shared headless renderer (wgpu), used by the offline pass and by the
+//! real-time scenes.
+//!
+//! # Decisions
+//! - **One device** per [`Renderer`]; meshes are uploaded once
+//!   ([`Renderer::upload_mesh`]) and drawn by id. The renderer is `Sync`;
+//!   concurrent [`Renderer::render`] calls are serialised by an internal lock
+//!   (the GPU queue is serial anyway).
+//! - **Adapter**: the backends in `WGPU_BACKEND` when set, else every native
+//!   backend, then the GL backend alone as a fallback. On a machine without
+//!   a GPU this is Mesa's llvmpipe through EGL (GL backend). No adapter at
+//!   all is an error ([`Error::NoAdapter`]), never a silent pass.
+//! - **Shading** (same as the run-time renderer): one directional light plus
+//!   ambient, Lambert, `colour = vertex colour × (ambient + diffuse ×
+//!   max(0, n·l))`. Both sides of a triangle are lit (the normal is flipped on
+//!   back faces), no culling, so inconsistent winding in files is harmless.
+//! - **Output** is `Rgba8UnormSrgb`: the shader works in linear RGB and the
+//!   target encodes to sRGB, so the bytes read back are sRGB8 — exactly what
+//!   [`crate::segment`] converts to CIELUV. Rows are top first, tightly
+//!   packed (the 256-byte row padding of the copy is stripped).
+//! - **No MSAA** by default. With `msaa_samples > 1` edges are blended over
+//!   a pixel or so; blended edge pixels differ less between LODs, so a
+//!   silhouette shift of one pixel may fall below the ΔE threshold and thin
+//!   features read as slightly shorter/lower contrast, i.e. anti-aliasing
+//!   removes some of the highest (≈ Nyquist) frequencies and can only move
+//!   measured frequencies up slightly, never create low ones.
+//! - **Deterministic**: the same requests give the same bytes (fixed
+//!   pipeline state, no blending, no MSAA unless chosen; llvmpipe rasterises
+//!   deterministically).
+
+use std::sync::Mutex;
+
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::{Error, Mesh};
+
+/// The colour target's format. See the module docs.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Handle of a mesh uploaded with [`Renderer::upload_mesh`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MeshId(pub u32);
+
+/// Lighting of a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lighting {
+    /// Direction *towards* the light, world space (need not be unit length).
+    pub direction_to_light: [f32; 3],
+    /// Diffuse intensity, multiplies the Lambert term (0..1 typical).
+    pub diffuse: f32,
+    /// Ambient intensity, added to the Lambert term (0..1 typical).
+    pub ambient: f32,
+}
+
+impl Default for Lighting {
+    /// A light over the viewer's right shoulder in view space is not
+    /// possible in world space, so: from +X +Y +Z, diffuse 0.75, ambient 0.25.
+    fn default() -> Self {
+        Self {
+            direction_to_light: [0.4, 0.8, 0.45],
+            diffuse: 0.75,
+            ambient: 0.25,
+        }
+    }
+}
+
+/// One frame to render.
+#[derive(Debug, Clone)]
+pub struct RenderRequest<'a> {
+    /// Image width in pixels (1..=the adapter's texture limit).
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// World to clip space, wgpu conventions (depth 0..1, y up in NDC).
+    pub view_proj: Mat4,
+    /// What to draw: a mesh and its model-to-world matrix. Instances of the
+    /// same mesh are drawn with one instanced draw call.
+    pub instances: &'a [(MeshId, Mat4)],
+    /// The light.
+    pub lighting: Lighting,
+    /// Background colour, sRGB8 (written to the image as is).
+    pub background_srgb: [u8; 3],
+}
+
+/// A rendered frame.
+#[derive(Debug, Clone)]
+pub struct RenderOutput {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// RGBA8, sRGB-encoded, rows top first, `width * 4` bytes per row.
+    pub rgba: Vec<u8>,
+    /// Triangles submitted (instances × triangles of their mesh).
+    pub triangles: u64,
+    /// Draw calls issued (one per distinct mesh).
+    pub draw_calls: u32,
+}
+
+/// Options for [`Renderer::new`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RendererOptions {
+    /// MSAA sample count: 1 (default, no anti-aliasing) or a count the
+    /// adapter supports for `Rgba8UnormSrgb` (usually 4).
+    pub msaa_samples: u32,
+}
+
+impl Default for RendererOptions {
+    fn default() -> Self {
+        Self { msaa_samples: 1 }
+    }
+}
+
+struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+struct Target {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    msaa_color: Option<wgpu::Texture>,
+    depth: wgpu::Texture,
+    readback: wgpu::Buffer,
+    padded_bytes_per_row: u32,
+}
+
+struct State {
+    meshes: Vec<Option<GpuMesh>>,
+    target: Option<Target>,
+    instance_buf: Option<wgpu::Buffer>,
+}
+
+/// The shared headless renderer. See the module docs.
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    pipeline: wgpu::RenderPipeline,
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    samples: u32,
+    adapter_info: String,
+    max_dim: u32,
+    state: Mutex<State>,
+}
+
+const VERTEX_STRIDE: u64 = 36; // position, normal, colour: 3 × f32x3
+const INSTANCE_STRIDE: u64 = 112; // model mat4 + normal mat3 as 3 × vec4
+const UNIFORM_SIZE: u64 = 96; // view_proj mat4 + light dir vec4 + light params vec4
+
+const SHADER: &str = r#"
+struct Frame {
+    view_proj: mat4x4<f32>,
+    light_dir: vec4<f32>,
+    light: vec4<f32>,
+};
+@group(0) @binding(0) var<uniform> frame: Frame;
+
+struct VIn {
+    @location(0) pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec3<f32>,
+    @location(3) m0: vec4<f32>,
+    @location(4) m1: vec4<f32>,
+    @location(5) m2: vec4<f32>,
+    @location(6) m3: vec4<f32>,
+    @location(7) n0: vec4<f32>,
+    @location(8) n1: vec4<f32>,
+    @location(9) n2: vec4<f32>,
+};
+struct VOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) color: vec3<f32>,
+};
+
+@vertex
+fn vs_main(v: VIn) -> VOut {
+    let model = mat4x4<f32>(v.m0, v.m1, v.m2, v.m3);
+    let nmat = mat3x3<f32>(v.n0.xyz, v.n1.xyz, v.n2.xyz);
+    var o: VOut;
+    o.clip = frame.view_proj * (model * vec4<f32>(v.pos, 1.0));
+    o.normal = nmat * v.normal;
+    o.color = v.color;
+    return o;
+}
+
+@fragment
+fn fs_main(i: VOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    var n = normalize(i.normal);
+    if (!front) { n = -n; }
+    let lambert = max(dot(n, frame.light_dir.xyz), 0.0);
+    let c = i.color * (frame.light.y + frame.light.x * lambert);
+    return vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
+}
+"#;
+
+impl Renderer {
+    /// Creates the device (once) and the pipeline. Fails with
+    /// [`Error::NoAdapter`] when no adapter exists, with [`Error::Settings`]
+    /// when the sample count is unsupported.
+    pub fn new(options: &RendererOptions) -> Result<Self, Error> {
+        pollster::block_on(Self::new_async(options))
+    }
+
+    async fn new_async(options: &RendererOptions) -> Result<Self, Error> {
+        let env = wgpu::Backends::from_env();
+        let first = env.unwrap_or(wgpu::Backends::all());
+        let mut tried = vec![format!("{first:?}")];
+        let mut found = Self::try_adapter(first).await;
+        if found.is_none() && env.is_none() && first != wgpu::Backends::GL {
+            tried.push("GL".into());
+            found = Self::try_adapter(wgpu::Backends::GL).await;
+        }
+        let adapter = found.ok_or_else(|| Error::NoAdapter {
+            tried: tried.join(", then "),
+        })?;
+        let info = adapter.get_info();
+        let adapter_info = format!("{} ({:?}, {})", info.name, info.backend, info.driver);
+
+        let samples = options.msaa_samples;
+        let flags = adapter.get_texture_format_features(COLOR_FORMAT).flags;
+        if samples == 0 || (samples > 1 && !flags.sample_count_supported(samples)) {
+            return Err(Error::Settings {
+                field: "msaa_samples",
+                message: format!("{samples} samples not supported by {adapter_info}"),
+            });
+        }
+        let limits = adapter.limits();
+        let max_dim = limits.max_texture_dimension_2d;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("acuity"),
+                required_features: wgpu::Features::empty(),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| Error::Gpu {
+                message: format!("request_device on {adapter_info}: {e}"),
+            })?;
+
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("acuity shading"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        });
+        let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(UNIFORM_SIZE),
+                },
+                count: None,
+            }],
+        });
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniforms"),
+            size: UNIFORM_SIZE,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &bgl,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&bgl)],
+            immediate_size: 0,
+        });
+        let vattrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3];
+        let iattrs = wgpu::vertex_attr_array![
+            3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
+            7 => Float32x4, 8 => Float32x4, 9 => Float32x4
+        ];
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("acuity lit"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[
+                    Some(wgpu::VertexBufferLayout {
+                        array_stride: VERTEX_STRIDE,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &vattrs,
+                    }),
+                    Some(wgpu::VertexBufferLayout {
+                        array_stride: INSTANCE_STRIDE,
+                        step_mode: wgpu::VertexStepMode::Instance,
+                        attributes: &iattrs,
+                    }),
+                ],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self {
+            device,
+            queue,
+            pipeline,
+            uniforms,
+            bind_group,
+            samples,
+            adapter_info,
+            max_dim,
+            state: Mutex::new(State {
+                meshes: Vec::new(),
+                target: None,
+                instance_buf: None,
+            }),
+        })
+    }
+
+    async fn try_adapter(backends: wgpu::Backends) -> Option<wgpu::Adapter> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        let instance = wgpu::Instance::new(desc);
+        instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                apply_limit_buckets: false,
+            })
+            .await
+            .ok()
+    }
+
+    /// The adapter in use: name, backend and driver, for logs and reports.
+    pub fn adapter_info(&self) -> &str {
+        &self.adapter_info
+    }
+
+    /// The MSAA sample count this renderer draws with.
+    pub fn msaa_samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Uploads a mesh once; draw it by the returned id. The mesh must pass
+    /// [`Mesh::check`] (else [`Error::Settings`]).
+    pub fn upload_mesh(&self, mesh: &Mesh) -> Result<MeshId, Error> {
+        mesh.check().map_err(|message| Error::Settings {
+            field: "mesh",
+            message,
+        })?;
+        let mut vbytes = Vec::with_capacity(mesh.positions.len() * VERTEX_STRIDE as usize);
+        for i in 0..mesh.positions.len() {
+            for a in [mesh.positions[i], mesh.normals[i], mesh.colors[i]] {
+                for c in a {
+                    vbytes.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+        }
+        let mut ibytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        // COPY_BUFFER_ALIGNMENT is 4: u32 indices and f32 vertices always are.
+        if ibytes.is_empty() {
+            ibytes.extend_from_slice(&[0; 4]);
+        }
+        let vertices = self.buffer_with(&vbytes, wgpu::BufferUsages::VERTEX);
+        let indices = self.buffer_with(&ibytes, wgpu::BufferUsages::INDEX);
+        let mut state = self.lock();
+        state.meshes.push(Some(GpuMesh {
+            vertices,
+            indices,
+            index_count: mesh.indices.len() as u32,
+        }));
+        Ok(MeshId(state.meshes.len() as u32 - 1))
+    }
+
+    /// Frees a mesh's GPU buffers. Its id becomes invalid (rendering it is
+    /// an error); ids are not reused. Unknown ids are ignored.
+    pub fn free_mesh(&self, id: MeshId) {
+        if let Some(slot) = self.lock().meshes.get_mut(id.0 as usize) {
+            *slot = None;
+        }
+    }
+
+    fn buffer_with(&self, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        let buf = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: bytes.len() as u64,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.queue.write_buffer(&buf, 0, bytes);
+        buf
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+        // A panic while holding the lock leaves only GPU handles behind;
+        // keep going with them.
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Renders one frame offscreen, waits for the GPU and reads the image
+    /// back. The call returns only when the frame is complete, so timing it
+    /// measures render + readback honestly.
+    pub fn render(&self, req: &RenderRequest<'_>) -> Result<RenderOutput, Error> {
+        if req.width == 0
+            || req.height == 0
+            || req.width > self.max_dim
+            || req.height > self.max_dim
+        {
+            return Err(Error::Settings {
+                field: "width/height",
+                message: format!(
+                    "{}x{} outside 1..={} pixels",
+                    req.width, req.height, self.max_dim
+                ),
+            });
+        }
+        let mut state = self.lock();
+        let state = &mut *state;
+        if let Some(&(bad, _)) = req
+            .instances
+            .iter()
+            .find(|(id, _)| state.meshes.get(id.0 as usize).is_none_or(Option::is_none))
+        {
+            return Err(Error::Settings {
+                field: "instances",
+                message: format!("unknown mesh id {}", bad.0),
+            });
+        }
+        self.ensure_target(state, req.width, req.height);
+
+        // Uniforms.
+        let l = Vec3::from(req.lighting.direction_to_light)
+            .try_normalize()
+            .unwrap_or(Vec3::Z);
+        let mut u = Vec::with_capacity(UNIFORM_SIZE as usize);
+        for f in req.view_proj.to_cols_array() {
+            u.extend_from_slice(&f.to_le_bytes());
+        }
+        for f in [
+            l.x,
+            l.y,
+            l.z,
+            0.0,
+            req.lighting.diffuse,
+            req.lighting.ambient,
+            0.0,
+            0.0,
+        ] {
+            u.extend_from_slice(&f.to_le_bytes());
+        }
+        self.queue.write_buffer(&self.uniforms, 0, &u);
+
+        // Instances grouped per mesh, in order of first appearance.
+        let mut order: Vec<MeshId> = Vec::new();
+        let mut groups: std::collections::HashMap<MeshId, Vec<Mat4>> = Default::default();
+        for (id, m) in req.instances {
+            groups
+                .entry(*id)
+                .or_insert_with(|| {
+                    order.push(*id);
+                    Vec::new()
+                })
+                .push(*m);
+        }
+        let mut ibytes = Vec::with_capacity(req.instances.len() * INSTANCE_STRIDE as usize);
+        let mut ranges = Vec::with_capacity(order.len());
+        let mut triangles = 0u64;
+        for id in &order {
+            let mats = &groups[id];
+            let start = (ibytes.len() as u64 / INSTANCE_STRIDE) as u32;
+            for m in mats {
+                let n = Mat3::from_mat4(*m).inverse().transpose();
+                let n = if n.is_finite() {
+                    n
+                } else {
+                    Mat3::from_mat4(*m)
+                };
+                for f in m.to_cols_array() {
+                    ibytes.extend_from_slice(&f.to_le_bytes());
+                }
+                for col in [n.x_axis, n.y_axis, n.z_axis] {
+                    for f in [col.x, col.y, col.z, 0.0] {
+                        ibytes.extend_from_slice(&f.to_le_bytes());
+                    }
+                }
+            }
+            let index_count = state.meshes[id.0 as usize]
+                .as_ref()
+                .map_or(0, |m| m.index_count);
+            triangles += u64::from(index_count / 3) * mats.len() as u64;
+            ranges.push((*id, start..start + mats.len() as u32));
+        }
+        if !ibytes.is_empty() {
+            let need = ibytes.len() as u64;
+            if state.instance_buf.as_ref().is_none_or(|b| b.size() < need) {
+                state.instance_buf = Some(self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("instances"),
+                    size: need.next_power_of_two(),
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }));
+            }
+            if let Some(b) = &state.instance_buf {
+                self.queue.write_buffer(b, 0, &ibytes);
+            }
+        }
+
+        let target = state.target.as_ref().expect("ensure_target set it");
+        let color_view = target.color.create_view(&Default::default());
+        let msaa_view = target
+            .msaa_color
+            .as_ref()
+            .map(|t| t.create_view(&Default::default()));
+        let depth_view = target.depth.create_view(&Default::default());
+        let bg = req.background_srgb.map(|c| srgb8_to_linear(c) as f64);
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        {
+            let (view, resolve) = match &msaa_view {
+                Some(ms) => (ms, Some(&color_view)),
+                None => (&color_view, None),
+            };
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("acuity frame"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: resolve,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: bg[0],
+                            g: bg[1],
+                            b: bg[2],
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            if let Some(ib) = &state.instance_buf {
+                pass.set_vertex_buffer(1, ib.slice(..));
+            }
+            for (id, inst) in &ranges {
+                let Some(gm) = state.meshes[id.0 as usize].as_ref() else {
+                    continue;
+                };
+                pass.set_vertex_buffer(0, gm.vertices.slice(..));
+                pass.set_index_buffer(gm.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..gm.index_count, 0, inst.clone());
+            }
+        }
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &target.color,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &target.readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(target.padded_bytes_per_row),
+                    rows_per_image: Some(req.height),
+                },
+            },
+            wgpu::Extent3d {
+                width: req.width,
+                height: req.height,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.queue.submit([enc.finish()]);
+
+        let (tx, rx) = std::sync::mpsc::channel();
+        target
+            .readback
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let _ = tx.send(r);
+            });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu {
+                message: format!("waiting for the frame: {e}"),
+            })?;
+        rx.recv()
+            .map_err(|_| Error::Gpu {
+                message: "readback callback never ran".into(),
+            })?
+            .map_err(|e| Error::Gpu {
+                message: format!("mapping the readback buffer: {e}"),
+            })?;
+        let row = req.width as usize * 4;
+        let mut rgba = Vec::with_capacity(row * req.height as usize);
+        {
+            let view = target
+                .readback
+                .get_mapped_range(..)
+                .map_err(|e| Error::Gpu {
+                    message: format!("reading the readback buffer: {e}"),
+                })?;
+            for y in 0..req.height as usize {
+                let start = y * target.padded_bytes_per_row as usize;
+                rgba.extend_from_slice(&view[start..start + row]);
+            }
+        }
+        target.readback.unmap();
+        Ok(RenderOutput {
+            width: req.width,
+            height: req.height,
+            rgba,
+            triangles,
+            draw_calls: ranges.len() as u32,
+        })
+    }
+
+    fn ensure_target(&self, state: &mut State, width: u32, height: u32) {
+        if state
+            .target
+            .as_ref()
+            .is_some_and(|t| t.width == width && t.height == height)
+        {
+            return;
+        }
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let tex = |format, samples, usage| {
+            self.device.create_texture(&wgpu::TextureDescriptor {
+                label: None,
+                size,
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let color = tex(
+            COLOR_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let msaa_color = (self.samples > 1).then(|| {
+            tex(
+                COLOR_FORMAT,
+                self.samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+        });
+        let depth = tex(
+            DEPTH_FORMAT,
+            self.samples,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded_bytes_per_row = (width * 4).div_ceil(align) * align;
+        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: u64::from(padded_bytes_per_row) * u64::from(height),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        state.target = Some(Target {
+            width,
+            height,
+            color,
+            msaa_color,
+            depth,
+            readback,
+            padded_bytes_per_row,
+        });
+    }
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("adapter", &self.adapter_info)
+            .field("msaa_samples", &self.samples)
+            .finish_non_exhaustive()
+    }
+}
+
+/// sRGB8 code value to linear intensity in `[0, 1]` (IEC 61966-2-1).
+pub fn srgb8_to_linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}

@@ -1,0 +1,158 @@
+//! Synthetic validation of feature extraction: shapes of known size give
+//! frequencies within 5% of the truth (REFERENCE §5; issue 3).
+
+use FrequencyStatistic::*;
+use acuity_preprocess::frequency::{FrequencyStatistic, frequencies_cpx, unique_features};
+use acuity_preprocess::segment::{LuvImage, srgb8_to_luv};
+
+const N: u32 = 256;
+
+/// A pair: background everywhere in `a`; `b` has `shape` pixels in red.
+fn pair(shape: impl Fn(f32, f32) -> bool) -> (LuvImage, LuvImage) {
+    let bg = srgb8_to_luv([20, 20, 20]);
+    let fg = srgb8_to_luv([200, 40, 40]);
+    let a = LuvImage {
+        width: N,
+        height: N,
+        luv: vec![bg; (N * N) as usize],
+    };
+    let luv = (0..N * N)
+        .map(|i| {
+            if shape((i % N) as f32 + 0.5, (i / N) as f32 + 0.5) {
+                fg
+            } else {
+                bg
+            }
+        })
+        .collect();
+    (
+        a,
+        LuvImage {
+            width: N,
+            height: N,
+            luv,
+        },
+    )
+}
+
+fn freqs(shape: impl Fn(f32, f32) -> bool, stat: FrequencyStatistic, k: u32) -> Vec<f32> {
+    let (a, b) = pair(shape);
+    let (features, _) = unique_features(&a, &b, 2.3, k).unwrap();
+    frequencies_cpx(&features, stat)
+}
+
+fn assert_within(measured: f32, truth: f32, what: &str) {
+    let err = (measured - truth).abs() / truth;
+    assert!(
+        err <= 0.05,
+        "{what}: measured {measured}, truth {truth} ({:.1}% off)",
+        err * 100.0
+    );
+}
+
+/// Bar of width `w`, length `l`, long axis at `deg` degrees, centred.
+fn bar(w: f32, l: f32, deg: f32) -> impl Fn(f32, f32) -> bool {
+    let (s, c) = deg.to_radians().sin_cos();
+    move |x, y| {
+        let (dx, dy) = (x - 127.3, y - 128.6);
+        let u = dx * c + dy * s;
+        let v = -dx * s + dy * c;
+        u.abs() <= l / 2.0 && v.abs() <= w / 2.0
+    }
+}
+
+#[test]
+fn identical_images_have_no_features() {
+    let (a, _) = pair(|_, _| false);
+    let (f, _) = unique_features(&a, &a.clone(), 2.3, 8).unwrap();
+    assert!(f.is_empty());
+    // A change below the threshold is not a feature either.
+    let mut b = a.clone();
+    for p in &mut b.luv {
+        p[0] += 2.0;
+    }
+    assert!(unique_features(&a, &b, 2.3, 8).unwrap().0.is_empty());
+}
+
+#[test]
+fn a_disc_of_diameter_d_is_one_over_2d_by_every_statistic() {
+    // Rasterisation is exact to about a pixel, so 5% needs d >= 20.
+    for d in [20.0f32, 31.0, 64.0, 101.0, 180.0] {
+        for stat in [Longest, Shortest, Mean] {
+            let f = freqs(|x, y| (x - 127.3).hypot(y - 128.6) <= d / 2.0, stat, 8);
+            assert_eq!(f.len(), 1);
+            assert_within(f[0], 1.0 / (2.0 * d), &format!("disc {d} {stat:?}"));
+        }
+    }
+}
+
+#[test]
+fn a_feature_of_width_w_reports_one_over_2w() {
+    for w in [10.0f32, 20.0, 47.0] {
+        // A bar of width w (long axis vertical): its width statistic.
+        let f = freqs(bar(w, 200.0, 90.0), Shortest, 8);
+        assert_eq!(f.len(), 1);
+        assert_within(f[0], 1.0 / (2.0 * w), &format!("bar width {w}"));
+        // An axis-aligned w x w square: exact width; longest is its diagonal.
+        let sq = |x: f32, y: f32| (100.0..100.0 + w).contains(&x) && (90.0..90.0 + w).contains(&y);
+        assert_eq!(freqs(sq, Shortest, 8)[0], 1.0 / (2.0 * w));
+        assert_within(
+            freqs(sq, Longest, 8)[0],
+            1.0 / (2.0 * w * 2f32.sqrt()),
+            "square diagonal",
+        );
+    }
+}
+
+#[test]
+fn bars_at_several_orientations() {
+    // Widths are exact to about a pixel after rasterisation: w >= 20 for 5%.
+    let (w, l) = (24.0f32, 180.0f32);
+    let diag = w.hypot(l);
+    // Longest: any orientation (the K = 8 sampling misses the true maximum
+    // by at most 1 - cos(11.25 deg) = 1.9%).
+    for deg in [
+        0.0f32, 10.0, 22.5, 30.0, 45.0, 60.0, 77.0, 90.0, 135.0, 160.0,
+    ] {
+        let f = freqs(bar(w, l, deg), Longest, 8);
+        assert_eq!(f.len(), 1, "{deg}");
+        assert_within(
+            f[0],
+            1.0 / (2.0 * diag),
+            &format!("bar longest at {deg} deg"),
+        );
+    }
+    // Shortest (width): orientations whose normal is a sampled direction.
+    for deg in [0.0f32, 22.5, 45.0, 67.5, 90.0, 112.5, 135.0, 157.5] {
+        let f = freqs(bar(w, l, deg), Shortest, 8);
+        assert_within(f[0], 1.0 / (2.0 * w), &format!("bar width at {deg} deg"));
+    }
+    // Finer sampling (K = 36, 5 deg steps) measures widths at 30/60/80 deg.
+    for deg in [30.0f32, 60.0, 80.0] {
+        let f = freqs(bar(w, l, deg), Shortest, 36);
+        assert_within(
+            f[0],
+            1.0 / (2.0 * w),
+            &format!("bar width at {deg} deg, K=36"),
+        );
+    }
+}
+
+#[test]
+fn gratings_of_known_period_give_one_cycle_per_period() {
+    for period in [16.0f32, 24.0, 40.0] {
+        for deg in [0.0f32, 45.0, 90.0, 135.0] {
+            let (s, c) = deg.to_radians().sin_cos();
+            let grating = |x: f32, y: f32| ((x * c + y * s) / period).rem_euclid(1.0) < 0.5;
+            let f = freqs(grating, Shortest, 8);
+            assert!(f.len() >= 4, "{period} {deg}: {} bars", f.len());
+            // Bars cut by the image corners are narrower; the median bar is whole.
+            let median = f[f.len() / 2];
+            assert_within(
+                median,
+                1.0 / period,
+                &format!("grating period {period} at {deg} deg"),
+            );
+        }
+    }
+}

@@ -1,0 +1,138 @@
+//! The display: resolution and field of view, and the highest spatial
+//! frequency it can show.
+
+use crate::error::{Error, Result};
+
+/// A display as the viewer sees it: resolution in pixels and the field of
+/// view the image subtends at the eye, in degrees.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Display {
+    resolution_px: [u32; 2],
+    fov_deg: [f32; 2],
+}
+
+/// Largest field of view accepted, deg. A planar display subtends less than
+/// 180 deg; the bound keeps `tan(fov / 2)` finite in `f32`.
+pub const MAX_FOV_DEG: f32 = 179.9;
+/// Smallest field of view accepted, deg.
+pub const MIN_FOV_DEG: f32 = 1e-3;
+
+impl Display {
+    /// A display from its resolution (pixels, horizontal then vertical,
+    /// each at least 1) and field of view (deg, horizontal then vertical,
+    /// each in `[MIN_FOV_DEG, MAX_FOV_DEG]`). Zero or 180-degree fields of
+    /// view and zero resolutions are refused.
+    pub fn new(resolution_px: [u32; 2], fov_deg: [f32; 2]) -> Result<Self> {
+        for (axis, &px) in ["horizontal", "vertical"].iter().zip(&resolution_px) {
+            if px == 0 {
+                return Err(Error::invalid(
+                    "resolution_px",
+                    format!("{axis} resolution is 0 pixels"),
+                ));
+            }
+        }
+        for (axis, &fov) in ["horizontal", "vertical"].iter().zip(&fov_deg) {
+            if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&fov) {
+                return Err(Error::invalid(
+                    "fov_deg",
+                    format!(
+                        "{axis} field of view {fov} deg is outside [{MIN_FOV_DEG}, {MAX_FOV_DEG}]"
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            resolution_px,
+            fov_deg,
+        })
+    }
+
+    /// A display from its physical size and the viewing distance: a
+    /// `screen_size_cm` wide and tall image seen from `distance_cm` subtends
+    /// `2 atan(size / (2 distance))` on each axis. All lengths must be
+    /// finite and positive (any one unit will do, as long as both share it).
+    pub fn from_physical(
+        resolution_px: [u32; 2],
+        screen_size_cm: [f32; 2],
+        distance_cm: f32,
+    ) -> Result<Self> {
+        if !(distance_cm.is_finite() && distance_cm > 0.0) {
+            return Err(Error::invalid(
+                "distance_cm",
+                format!("viewing distance {distance_cm} cm is not a positive finite length"),
+            ));
+        }
+        let mut fov_deg = [0.0; 2];
+        for (i, &size) in screen_size_cm.iter().enumerate() {
+            if !(size.is_finite() && size > 0.0) {
+                return Err(Error::invalid(
+                    "screen_size_cm",
+                    format!("screen size {size} cm is not a positive finite length"),
+                ));
+            }
+            fov_deg[i] = 2.0 * (0.5 * size / distance_cm).atan().to_degrees();
+        }
+        Self::new(resolution_px, fov_deg)
+    }
+
+    /// Resolution in pixels, horizontal then vertical.
+    pub fn resolution_px(&self) -> [u32; 2] {
+        self.resolution_px
+    }
+
+    /// Field of view in degrees, horizontal then vertical.
+    pub fn fov_deg(&self) -> [f32; 2] {
+        self.fov_deg
+    }
+
+    /// The display limit `xi` in c/deg (Reddy 1998, eq. 4): one pixel is
+    /// half a cycle, and the finer of the two axes counts,
+    /// `max(h_px / (2 h_fov), v_px / (2 v_fov))`.
+    pub fn max_frequency_cpd(&self) -> f32 {
+        let h = self.resolution_px[0] as f32 / (2.0 * self.fov_deg[0]);
+        let v = self.resolution_px[1] as f32 / (2.0 * self.fov_deg[1]);
+        h.max(v)
+    }
+
+    /// Average pixels per degree, the larger of the two axes (`2 xi`).
+    pub fn pixels_per_degree(&self) -> f32 {
+        2.0 * self.max_frequency_cpd()
+    }
+
+    /// The angular size in deg an object has when it fills the display:
+    /// the larger field of view. Used when the size component is off.
+    pub fn filling_angular_size_deg(&self) -> f32 {
+        self.fov_deg[0].max(self.fov_deg[1])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reddy_1998_desktop_limit_is_12_5_cpd() {
+        let d = Display::new([1280, 1024], [53.1, 41.1]).unwrap();
+        assert!((d.max_frequency_cpd() - 12.5).abs() < 0.05);
+    }
+
+    #[test]
+    fn physical_size_gives_the_same_limit_as_its_angles() {
+        // 40 x 30 cm at 40 cm: 2 atan(0.5) = 53.13 deg, 2 atan(0.375) = 41.11 deg.
+        let d = Display::from_physical([1280, 1024], [40.0, 30.0], 40.0).unwrap();
+        assert!((d.fov_deg()[0] - 53.13).abs() < 0.01);
+        assert!((d.fov_deg()[1] - 41.11).abs() < 0.01);
+        assert!((d.max_frequency_cpd() - 12.45).abs() < 0.02);
+    }
+
+    #[test]
+    fn degenerate_displays_are_refused() {
+        assert!(Display::new([0, 1024], [50.0, 40.0]).is_err());
+        assert!(Display::new([1280, 1024], [0.0, 40.0]).is_err());
+        assert!(Display::new([1280, 1024], [180.0, 40.0]).is_err());
+        assert!(Display::new([1280, 1024], [f32::NAN, 40.0]).is_err());
+        assert!(Display::from_physical([1280, 1024], [40.0, 30.0], 0.0).is_err());
+        assert!(Display::from_physical([1280, 1024], [-1.0, 30.0], 40.0).is_err());
+        assert!(Display::new([1280, 1024], [179.9, 0.001]).is_ok());
+    }
+}

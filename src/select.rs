@@ -1,0 +1,946 @@
+//! Per-object LOD selection: the runtime's hot loop (REFERENCE §3–§4).
+//!
+//! For every object and frame: angular size `theta = 2 asin(r / d)`,
+//! eccentricity from the gaze, smoothed retinal velocity, the threshold
+//! `T = s min(H(v, E), xi)` in c/deg, and the coarsest LOD `j` whose
+//! removed features (transitions `0..j` at the chosen viewpoint) all lie
+//! above `T`: a feature of `f` c/diam shows at `f / theta` c/deg, so LOD `j`
+//! is invisible when the prefix minimum of those frequencies exceeds
+//! `T * theta`. Prefix minima are precomputed per viewpoint, which makes the
+//! choice a count of comparisons.
+//!
+//! Layout. Objects with more than one LOD live in a dense array of 48-byte
+//! records (`f64` centre, radius, profile, rotation) with their motion
+//! state and outputs in parallel arrays; objects with one LOD live apart and
+//! are only culled (or not touched at all with culling off). The loop is
+//! monomorphised over the velocity, eccentricity and nearest-viewpoint
+//! switches, so a switched-off component costs nothing, uses branch-free
+//! polynomial `asin`/`acos`/`log10` ([`crate::fastmath`]), allocates
+//! nothing, and runs on rayon (feature `parallel`) above
+//! [`SelectorSettings::parallel_min_objects`].
+
+use glam::{DVec3, Mat3, Quat, Vec3};
+
+use crate::acuity::{
+    Components, ECCENTRICITY_CEILING_DEG, ECCENTRICITY_FLOOR_DEG, MAX_ACUITY_CPD, MIN_ACUITY_CPD,
+    VELOCITY_CEILING_DEG_PER_S, VELOCITY_FLOOR_DEG_PER_S,
+};
+use crate::camera::{Camera, Gaze, MAX_WORLD_COORDINATE, normalized_rotation};
+use crate::display::Display;
+use crate::error::{Error, Result};
+use crate::fastmath;
+use crate::profile::Profile;
+use crate::viewpoints::ViewpointLookup;
+
+/// Objects per parallel work item.
+const CHUNK: usize = 4096;
+/// Retinal velocities are capped here, deg/s: far beyond the model's
+/// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
+pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
+const RAD_TO_DEG: f32 = 180.0 / std::f32::consts::PI;
+const SINGLE_LOD_BIT: u32 = 1 << 31;
+
+/// Handle of an object added to a [`Selector`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ObjectId(u32);
+
+/// Handle of a profile added to a [`Selector`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ProfileId(u32);
+
+/// An object's selection this frame: an LOD index (0 = finest) or culled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[repr(transparent)]
+pub struct Selection(u8);
+
+impl Selection {
+    /// Outside the view frustum or behind the camera.
+    pub const CULLED: Self = Self(u8::MAX);
+
+    /// The chosen LOD, or `None` when culled.
+    pub fn lod(self) -> Option<usize> {
+        (self != Self::CULLED).then_some(self.0 as usize)
+    }
+
+    /// Whether the object was culled.
+    pub fn is_culled(self) -> bool {
+        self == Self::CULLED
+    }
+}
+
+/// What went into one object's choice, for inspection and plots.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Diagnostics {
+    /// Angle subtended by the bounding sphere, deg (180 inside it).
+    pub angular_size_deg: f32,
+    /// Eccentricity after the tracker margin, deg (0 with the component off).
+    pub eccentricity_deg: f32,
+    /// Smoothed retinal velocity, deg/s (0 with the component off).
+    pub velocity_deg_per_s: f32,
+    /// Threshold frequency `T`, c/deg.
+    pub threshold_cpd: f32,
+}
+
+/// Which viewpoint's frequencies apply to an object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ViewpointRule {
+    /// The sampled viewpoint nearest to the actual view direction.
+    #[default]
+    Nearest,
+    /// The lowest frequency over all viewpoints: never coarser than any
+    /// viewpoint allows, and no view direction needed.
+    WorstCase,
+}
+
+/// How a [`Selector`] works; fixed at creation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SelectorSettings {
+    /// Which model components may lower detail.
+    pub components: Components,
+    /// Which viewpoint's frequencies apply.
+    pub viewpoint_rule: ViewpointRule,
+    /// Whether to cull objects outside the frustum (no far plane). With it
+    /// off every object gets an LOD and single-LOD objects cost nothing.
+    pub cull: bool,
+    /// Time constant of the exponential smoothing of retinal velocity, s
+    /// (>= 0; 0 means no smoothing). The default, 0.05 s, averages over
+    /// about 3 frames at 60 Hz (Reddy 2001 averages "over several frames").
+    pub velocity_time_constant_s: f32,
+    /// Below this many objects the loop runs on the calling thread.
+    pub parallel_min_objects: usize,
+    /// Lowest `s` the budgeted selection may use, in `(0, 1]`.
+    pub min_scale: f32,
+}
+
+impl Default for SelectorSettings {
+    fn default() -> Self {
+        Self {
+            components: Components::ALL,
+            viewpoint_rule: ViewpointRule::Nearest,
+            cull: true,
+            velocity_time_constant_s: 0.05,
+            parallel_min_objects: 32_768,
+            min_scale: 0.01,
+        }
+    }
+}
+
+/// An object to select LODs for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectDesc {
+    /// Centre of the bounding sphere, world units; each coordinate within
+    /// `±MAX_WORLD_COORDINATE`.
+    pub center: DVec3,
+    /// Radius of the bounding sphere, world units, finite and `>= 0`.
+    pub radius: f32,
+    /// Rotation from the object's frame (the profile's) to the world.
+    pub rotation: Quat,
+    /// The object's profile.
+    pub profile: ProfileId,
+}
+
+/// One frame's input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameInput {
+    /// The camera this frame.
+    pub camera: Camera,
+    /// The gaze this frame.
+    pub gaze: Gaze,
+    /// Time since the previous frame, s. Zero, negative, non-finite or
+    /// larger than 1e6 s: velocities are not updated this frame (they
+    /// keep their smoothed values).
+    pub dt_s: f32,
+    /// The global scale factor `s` in `(0, 1]` (1: imperceptible; lower
+    /// drops detail sooner). Values above 1 count as 1; `NaN`, zero and
+    /// negative values are refused.
+    pub scale: f32,
+}
+
+/// The result of [`Selector::select_within_budget`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BudgetOutcome {
+    /// The scale factor `s` chosen.
+    pub scale: f32,
+    /// Triangles of the chosen LODs (culled objects count 0).
+    pub triangles: u64,
+    /// Whether the budget was met (false when even the lowest `s` is over).
+    pub within_budget: bool,
+}
+
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+struct ObjectRecord {
+    center: DVec3,
+    radius: f32,
+    profile: u32,
+    rotation: Quat,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct MotionState {
+    /// Direction to the object in the eye's frame, last frame.
+    dir_eye: Vec3,
+    /// Smoothed retinal velocity, deg/s; negative: no history yet.
+    velocity_deg_per_s: f32,
+}
+
+const NO_HISTORY: MotionState = MotionState {
+    dir_eye: Vec3::ZERO,
+    velocity_deg_per_s: -1.0,
+};
+
+#[derive(Clone, Copy, Debug, Default)]
+struct BudgetEntry {
+    /// `min(H, xi) * theta`: the threshold at `s = 1` in c/diam (`inf`
+    /// inside the bounding sphere).
+    k_cdiam: f32,
+    /// Start of the object's prefix-minimum row; `u32::MAX` when culled.
+    row: u32,
+}
+
+#[derive(Clone, Debug)]
+struct CompiledProfile {
+    lod_count: usize,
+    /// Row 0: worst case over viewpoints; row `1 + v`: viewpoint `v`.
+    rows_start: usize,
+    views: Option<ViewpointLookup>,
+    triangles: Vec<u32>,
+}
+
+/// Selects LODs for a set of objects, frame after frame.
+///
+/// ```
+/// use acuity::{Camera, Display, FrameInput, Gaze, ObjectDesc, Selector, SelectorSettings};
+/// # fn main() -> Result<(), acuity::Error> {
+/// # let profile = acuity::profile_for_docs();
+/// let display = Display::new([1920, 1080], [90.0, 58.7])?;
+/// let mut selector = Selector::new(display, SelectorSettings::default());
+/// let profile = selector.add_profile(&profile)?;
+/// let id = selector.add_object(ObjectDesc {
+///     center: glam::DVec3::new(0.0, 0.0, -20.0),
+///     radius: 1.0,
+///     rotation: glam::Quat::IDENTITY,
+///     profile,
+/// })?;
+/// let frame = FrameInput {
+///     camera: Camera { position: glam::DVec3::ZERO, orientation: glam::Quat::IDENTITY },
+///     gaze: Gaze::default(),
+///     dt_s: 1.0 / 60.0,
+///     scale: 1.0,
+/// };
+/// selector.select(&frame)?;
+/// println!("LOD {:?}", selector.selection(id).lod());
+/// # Ok(()) }
+/// ```
+#[derive(Clone, Debug)]
+pub struct Selector {
+    display: Display,
+    settings: SelectorSettings,
+    profiles: Vec<CompiledProfile>,
+    rows: Vec<f32>,
+    objects: Vec<ObjectRecord>,
+    motion: Vec<MotionState>,
+    selections: Vec<Selection>,
+    diagnostics: Vec<Diagnostics>,
+    budget: Vec<BudgetEntry>,
+    singles: Vec<SingleRecord>,
+    single_selections: Vec<Selection>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct SingleRecord {
+    center: DVec3,
+    radius: f32,
+    triangles: u32,
+}
+
+struct FrameConsts<'a> {
+    cam_pos: DVec3,
+    world_to_eye: Mat3,
+    planes_eye: [Vec3; 4],
+    forward_eye: Vec3,
+    cull: bool,
+    size_on: bool,
+    margin_deg: f32,
+    limit_cpd: f32,
+    scale: f32,
+    fill_deg: f32,
+    dt_valid: bool,
+    inv_dt: f32,
+    alpha: f32,
+    pursued: u32,
+    rows: &'a [f32],
+    profiles: &'a [CompiledProfile],
+}
+
+impl Selector {
+    /// An empty selector for a display.
+    pub fn new(display: Display, settings: SelectorSettings) -> Self {
+        Self {
+            display,
+            settings,
+            profiles: Vec::new(),
+            rows: Vec::new(),
+            objects: Vec::new(),
+            motion: Vec::new(),
+            selections: Vec::new(),
+            diagnostics: Vec::new(),
+            budget: Vec::new(),
+            singles: Vec::new(),
+            single_selections: Vec::new(),
+        }
+    }
+
+    /// The display.
+    pub fn display(&self) -> &Display {
+        &self.display
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SelectorSettings {
+        &self.settings
+    }
+
+    /// Adds a profile (validated again here) and precomputes its prefix
+    /// minima and viewpoint lookup.
+    pub fn add_profile(&mut self, profile: &Profile) -> Result<ProfileId> {
+        profile.validate()?;
+        let n = profile.transitions_per_view();
+        let rows_start = self.rows.len();
+        let mut worst = vec![f32::INFINITY; n];
+        let mut view_rows = Vec::with_capacity(profile.viewpoints.len() * n);
+        for v in 0..profile.viewpoints.len() {
+            let mut running = f32::INFINITY;
+            for (t, tr) in profile.view_transitions(v).iter().enumerate() {
+                running = running.min(tr.lowest_cdiam.unwrap_or(f32::INFINITY));
+                view_rows.push(running);
+                worst[t] = worst[t].min(running);
+            }
+        }
+        self.rows.extend_from_slice(&worst);
+        self.rows.extend_from_slice(&view_rows);
+        let views = (profile.viewpoints.len() > 1 && n > 0).then(|| {
+            ViewpointLookup::new(
+                profile
+                    .viewpoints
+                    .iter()
+                    .map(|v| Vec3::from_array(*v).normalize())
+                    .collect(),
+            )
+        });
+        self.profiles.push(CompiledProfile {
+            lod_count: profile.lod_count(),
+            rows_start,
+            views,
+            triangles: profile.lod_triangles.clone(),
+        });
+        Ok(ProfileId(self.profiles.len() as u32 - 1))
+    }
+
+    /// Adds an object. Objects whose profile has one LOD are kept apart
+    /// and never enter the selection loop.
+    pub fn add_object(&mut self, desc: ObjectDesc) -> Result<ObjectId> {
+        let profile = self.profiles.get(desc.profile.0 as usize).ok_or_else(|| {
+            Error::invalid(
+                "profile",
+                format!("{:?} is not in this selector", desc.profile),
+            )
+        })?;
+        let (center, radius, rotation) = validate_pose(desc.center, desc.radius, desc.rotation)?;
+        if profile.lod_count == 1 {
+            self.singles.push(SingleRecord {
+                center,
+                radius,
+                triangles: profile.triangles[0],
+            });
+            self.single_selections.push(Selection(0));
+            return Ok(ObjectId(SINGLE_LOD_BIT | (self.singles.len() as u32 - 1)));
+        }
+        if self.objects.len() as u32 >= SINGLE_LOD_BIT - 1 {
+            return Err(Error::invalid("objects", "more than 2^31 objects"));
+        }
+        self.objects.push(ObjectRecord {
+            center,
+            radius,
+            profile: desc.profile.0,
+            rotation,
+        });
+        self.motion.push(NO_HISTORY);
+        self.selections.push(Selection(0));
+        self.diagnostics.push(Diagnostics::default());
+        Ok(ObjectId(self.objects.len() as u32 - 1))
+    }
+
+    /// Moves an object. Its velocity history is kept: the motion shows up
+    /// as retinal velocity in the next frame.
+    pub fn set_pose(&mut self, id: ObjectId, center: DVec3, rotation: Quat) -> Result<()> {
+        let radius = self.radius(id)?;
+        let (center, _, rotation) = validate_pose(center, radius, rotation)?;
+        if id.0 & SINGLE_LOD_BIT != 0 {
+            self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].center = center;
+        } else {
+            let rec = &mut self.objects[id.0 as usize];
+            rec.center = center;
+            rec.rotation = rotation;
+        }
+        Ok(())
+    }
+
+    /// Changes an object's bounding radius (world units, finite, `>= 0`).
+    pub fn set_radius(&mut self, id: ObjectId, radius: f32) -> Result<()> {
+        self.radius(id)?;
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(Error::invalid(
+                "radius",
+                format!("{radius} is not a finite radius >= 0"),
+            ));
+        }
+        if id.0 & SINGLE_LOD_BIT != 0 {
+            self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].radius = radius;
+        } else {
+            self.objects[id.0 as usize].radius = radius;
+        }
+        Ok(())
+    }
+
+    fn radius(&self, id: ObjectId) -> Result<f32> {
+        let r = if id.0 & SINGLE_LOD_BIT != 0 {
+            self.singles
+                .get((id.0 & !SINGLE_LOD_BIT) as usize)
+                .map(|s| s.radius)
+        } else {
+            self.objects.get(id.0 as usize).map(|o| o.radius)
+        };
+        r.ok_or_else(|| Error::invalid("id", format!("{id:?} is not in this selector")))
+    }
+
+    /// Number of objects, single-LOD ones included.
+    pub fn object_count(&self) -> usize {
+        self.objects.len() + self.singles.len()
+    }
+
+    /// The selection of an object from the last `select*` call (LOD 0
+    /// before the first). Panics if `id` is not from this selector.
+    pub fn selection(&self, id: ObjectId) -> Selection {
+        if id.0 & SINGLE_LOD_BIT != 0 {
+            self.single_selections[(id.0 & !SINGLE_LOD_BIT) as usize]
+        } else {
+            self.selections[id.0 as usize]
+        }
+    }
+
+    /// Diagnostics of an object from the last
+    /// [`select_with_diagnostics`](Self::select_with_diagnostics) call;
+    /// `None` for single-LOD objects, which are never analysed.
+    pub fn diagnostics(&self, id: ObjectId) -> Option<Diagnostics> {
+        (id.0 & SINGLE_LOD_BIT == 0).then(|| self.diagnostics[id.0 as usize])
+    }
+
+    /// Triangles drawn with the current selections (culled objects: 0).
+    pub fn triangles(&self) -> u64 {
+        let multi: u64 = self
+            .objects
+            .iter()
+            .zip(&self.selections)
+            .filter_map(|(o, s)| {
+                s.lod()
+                    .map(|l| self.profiles[o.profile as usize].triangles[l] as u64)
+            })
+            .sum();
+        multi + self.single_triangles()
+    }
+
+    fn single_triangles(&self) -> u64 {
+        self.singles
+            .iter()
+            .zip(&self.single_selections)
+            .filter(|(_, s)| !s.is_culled())
+            .map(|(o, _)| o.triangles as u64)
+            .sum()
+    }
+}
+
+fn validate_pose(center: DVec3, radius: f32, rotation: Quat) -> Result<(DVec3, f32, Quat)> {
+    if !center.is_finite() || center.abs().max_element() > MAX_WORLD_COORDINATE {
+        return Err(Error::invalid(
+            "center",
+            format!("{center} is not finite or beyond ±{MAX_WORLD_COORDINATE:e}"),
+        ));
+    }
+    if !(radius.is_finite() && radius >= 0.0 && (radius as f64) <= MAX_WORLD_COORDINATE) {
+        return Err(Error::invalid(
+            "radius",
+            format!("{radius} is not a finite radius >= 0"),
+        ));
+    }
+    Ok((center, radius, normalized_rotation(rotation, "rotation")?))
+}
+
+/// Which outputs a pass writes besides the selections.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Extra {
+    None,
+    Diagnostics,
+    Budget,
+}
+
+impl Selector {
+    /// Selects every object's LOD for one frame; read the results with
+    /// [`selection`](Self::selection). Fails only on an invalid frame
+    /// (non-finite camera or gaze, `scale` not in `(0, 1]`), leaving every
+    /// state unchanged.
+    pub fn select(&mut self, frame: &FrameInput) -> Result<()> {
+        self.run(frame, frame.scale, Extra::None)
+    }
+
+    /// As [`select`](Self::select), and records each object's
+    /// [`Diagnostics`].
+    pub fn select_with_diagnostics(&mut self, frame: &FrameInput) -> Result<()> {
+        self.run(frame, frame.scale, Extra::Diagnostics)
+    }
+
+    /// Predictive fixed-frame-rate selection (Funkhouser & Séquin 1993 as
+    /// REFERENCE §6 adapts it): picks the largest `s` in
+    /// `[settings.min_scale, frame.scale]` whose LODs together stay within
+    /// `triangle_budget`, before anything is drawn, and selects with it.
+    ///
+    /// Every object's LOD is a step function of `s` with breakpoints at
+    /// `prefix_min / (min(H, xi) theta)`; the breakpoints' triangle savings
+    /// are binned over `log s` (256 bins), and the chosen `s` is checked
+    /// against the exact count. Lowering `s` always drops the least
+    /// visible detail first.
+    pub fn select_within_budget(
+        &mut self,
+        frame: &FrameInput,
+        triangle_budget: u64,
+    ) -> Result<BudgetOutcome> {
+        self.budget
+            .resize(self.objects.len(), BudgetEntry::default());
+        let s_max = checked_scale(frame.scale)?;
+        self.run(frame, 1.0, Extra::Budget)?;
+        let fixed = self.single_triangles();
+        let s_min = self.settings.min_scale.clamp(1e-6, s_max);
+        let mut scale = s_max;
+        let mut triangles = fixed + self.triangles_at(scale);
+        if triangles > triangle_budget {
+            const BINS: usize = 256;
+            let (lo, hi) = (s_min.ln(), s_max.ln());
+            let width = ((hi - lo) / BINS as f32).max(f32::MIN_POSITIVE);
+            let mut saved = [0u64; BINS];
+            for (entry, rec) in self.budget.iter().zip(&self.objects) {
+                if entry.row == u32::MAX {
+                    continue;
+                }
+                let p = &self.profiles[rec.profile as usize];
+                let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
+                for (j, &f) in row.iter().enumerate() {
+                    // LOD > j exactly when s < f / k.
+                    let s_break = f / entry.k_cdiam;
+                    if s_break <= s_min || s_break > s_max {
+                        continue;
+                    }
+                    let bin = (((s_break.ln() - lo) / width) as usize).min(BINS - 1);
+                    saved[bin] += (p.triangles[j] - p.triangles[j + 1]) as u64;
+                }
+            }
+            let needed = triangles - triangle_budget;
+            let mut total = 0u64;
+            let mut bin = BINS;
+            while bin > 0 && total < needed {
+                bin -= 1;
+                total += saved[bin];
+            }
+            // Candidate scales: the chosen bin's lower edge, stepping down a
+            // bin while the exact count is still over budget.
+            loop {
+                scale = (lo + width * bin as f32).exp().min(s_max) * (1.0 - 1e-6);
+                scale = scale.max(s_min);
+                triangles = fixed + self.triangles_at(scale);
+                if triangles <= triangle_budget || bin == 0 || scale <= s_min {
+                    break;
+                }
+                bin -= 1;
+            }
+        }
+        self.apply_budget_scale(scale);
+        Ok(BudgetOutcome {
+            scale,
+            triangles,
+            within_budget: triangles <= triangle_budget,
+        })
+    }
+
+    fn triangles_at(&self, scale: f32) -> u64 {
+        self.budget
+            .iter()
+            .zip(&self.objects)
+            .filter(|(e, _)| e.row != u32::MAX)
+            .map(|(e, rec)| {
+                let p = &self.profiles[rec.profile as usize];
+                let lod = count_coarser(
+                    &self.rows[e.row as usize..][..p.lod_count - 1],
+                    scale * e.k_cdiam,
+                );
+                p.triangles[lod] as u64
+            })
+            .sum()
+    }
+
+    fn apply_budget_scale(&mut self, scale: f32) {
+        for ((e, rec), sel) in self
+            .budget
+            .iter()
+            .zip(&self.objects)
+            .zip(&mut self.selections)
+        {
+            if e.row == u32::MAX {
+                continue;
+            }
+            let n = self.profiles[rec.profile as usize].lod_count - 1;
+            *sel = Selection(
+                count_coarser(&self.rows[e.row as usize..][..n], scale * e.k_cdiam) as u8,
+            );
+        }
+    }
+
+    fn run(&mut self, frame: &FrameInput, scale_override: f32, extra: Extra) -> Result<()> {
+        let scale = checked_scale(scale_override)?;
+        checked_scale(frame.scale)?;
+        let cam_rot = frame.camera.validate()?;
+        let (gaze_cam, margin_deg) = frame.gaze.validate()?;
+        let gaze_rot = Quat::from_rotation_arc(Vec3::NEG_Z, gaze_cam);
+        let world_to_eye = Mat3::from_quat(cam_rot * gaze_rot).transpose();
+        let eye_from_cam = Mat3::from_quat(gaze_rot).transpose();
+        let [fov_h, fov_v] = self.display.fov_deg();
+        let (sh, ch) = (0.5 * fov_h).to_radians().sin_cos();
+        let (sv, cv) = (0.5 * fov_v).to_radians().sin_cos();
+        let planes_cam = [
+            Vec3::new(ch, 0.0, sh),
+            Vec3::new(-ch, 0.0, sh),
+            Vec3::new(0.0, cv, sv),
+            Vec3::new(0.0, -cv, sv),
+        ];
+        let dt = frame.dt_s;
+        let dt_valid = dt.is_finite() && dt > 0.0 && dt <= 1e6;
+        let tau = self.settings.velocity_time_constant_s;
+        let alpha = if dt_valid && tau.is_finite() && tau > 0.0 {
+            1.0 - (-dt / tau).exp()
+        } else {
+            1.0
+        };
+        let pursued = match frame.gaze.pursued {
+            Some(ObjectId(i)) if i & SINGLE_LOD_BIT == 0 => i,
+            _ => u32::MAX,
+        };
+        let c = FrameConsts {
+            cam_pos: frame.camera.position,
+            world_to_eye,
+            planes_eye: planes_cam.map(|n| eye_from_cam * n),
+            forward_eye: eye_from_cam * Vec3::NEG_Z,
+            cull: self.settings.cull,
+            size_on: self.settings.components.size,
+            margin_deg,
+            limit_cpd: self.display.max_frequency_cpd(),
+            scale,
+            fill_deg: self.display.filling_angular_size_deg(),
+            dt_valid,
+            inv_dt: if dt_valid { 1.0 / dt } else { 0.0 },
+            alpha,
+            pursued,
+            rows: &self.rows,
+            profiles: &self.profiles,
+        };
+        let comps = self.settings.components;
+        let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
+        let kernel = match (comps.velocity, comps.eccentricity, nearest) {
+            (false, false, false) => kernel::<false, false, false>,
+            (false, false, true) => kernel::<false, false, true>,
+            (false, true, false) => kernel::<false, true, false>,
+            (false, true, true) => kernel::<false, true, true>,
+            (true, false, false) => kernel::<true, false, false>,
+            (true, false, true) => kernel::<true, false, true>,
+            (true, true, false) => kernel::<true, true, false>,
+            (true, true, true) => kernel::<true, true, true>,
+        };
+        let outputs = Outputs {
+            selections: &mut self.selections,
+            diagnostics: (extra == Extra::Diagnostics).then_some(&mut self.diagnostics[..]),
+            budget: (extra == Extra::Budget).then_some(&mut self.budget[..]),
+        };
+        dispatch(
+            &c,
+            &self.objects,
+            &mut self.motion,
+            outputs,
+            kernel,
+            self.settings.parallel_min_objects,
+        );
+        if c.cull {
+            for (o, sel) in self.singles.iter().zip(&mut self.single_selections) {
+                let p = c.world_to_eye * (o.center - c.cam_pos).as_vec3();
+                *sel = if outside_frustum(&c, p, o.radius) {
+                    Selection::CULLED
+                } else {
+                    Selection(0)
+                };
+            }
+        }
+        Ok(())
+    }
+}
+
+fn checked_scale(scale: f32) -> Result<f32> {
+    if scale > 0.0 {
+        Ok(scale.min(1.0))
+    } else {
+        Err(Error::invalid("scale", format!("{scale} is not in (0, 1]")))
+    }
+}
+
+struct Outputs<'a> {
+    selections: &'a mut [Selection],
+    diagnostics: Option<&'a mut [Diagnostics]>,
+    budget: Option<&'a mut [BudgetEntry]>,
+}
+
+type Kernel = fn(&FrameConsts<'_>, &[ObjectRecord], &mut [MotionState], u32, Outputs<'_>);
+
+fn dispatch(
+    c: &FrameConsts<'_>,
+    objects: &[ObjectRecord],
+    motion: &mut [MotionState],
+    out: Outputs<'_>,
+    kernel: Kernel,
+    parallel_min: usize,
+) {
+    #[cfg(feature = "parallel")]
+    if objects.len() >= parallel_min.max(2 * CHUNK) {
+        use rayon::prelude::*;
+        let Outputs {
+            selections,
+            diagnostics,
+            budget,
+        } = out;
+        let diag_iter = diagnostics.map(|d| d.par_chunks_mut(CHUNK));
+        let budget_iter = budget.map(|b| b.par_chunks_mut(CHUNK));
+        let base = objects
+            .par_chunks(CHUNK)
+            .zip(motion.par_chunks_mut(CHUNK))
+            .zip(selections.par_chunks_mut(CHUNK))
+            .enumerate();
+        match (diag_iter, budget_iter) {
+            (Some(d), _) => base.zip(d).for_each(|((i, ((o, m), s)), d)| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
+                        selections: s,
+                        diagnostics: Some(d),
+                        budget: None,
+                    },
+                )
+            }),
+            (None, Some(b)) => base.zip(b).for_each(|((i, ((o, m), s)), b)| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
+                        selections: s,
+                        diagnostics: None,
+                        budget: Some(b),
+                    },
+                )
+            }),
+            (None, None) => base.for_each(|(i, ((o, m), s))| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
+                        selections: s,
+                        diagnostics: None,
+                        budget: None,
+                    },
+                )
+            }),
+        }
+        return;
+    }
+    let _ = parallel_min;
+    kernel(c, objects, motion, 0, out);
+}
+
+/// Whether a sphere at `p` (eye frame) of radius `r` lies wholly outside a
+/// side plane or behind the eye. Branch-free: which plane culls is random.
+#[inline(always)]
+fn outside_frustum(c: &FrameConsts<'_>, p: Vec3, r: f32) -> bool {
+    let [a, b, d, e] = c.planes_eye.map(|n| n.dot(p));
+    fastmath::max(
+        fastmath::max(a, b),
+        fastmath::max(fastmath::max(d, e), -c.forward_eye.dot(p)),
+    ) > r
+}
+
+/// The selection rule (REFERENCE §4) for one object: the coarsest LOD `j`
+/// such that every feature removed on the way from LOD 0 is finer than the
+/// threshold. `prefix_min_cdiam[t]` is the lowest unique frequency of
+/// transitions `0..=t` in c/diam (non-increasing; `inf` where no feature
+/// changed), `threshold_cpd` is `T` in c/deg and `angular_size_deg` the
+/// object's `theta`; a feature of `f` c/diam shows at `f / theta` c/deg.
+/// A `NaN` threshold or size gives 0 (full detail), the conservative answer.
+pub fn lod_for_threshold(
+    prefix_min_cdiam: &[f32],
+    threshold_cpd: f32,
+    angular_size_deg: f32,
+) -> usize {
+    let k = threshold_cpd * angular_size_deg;
+    if k.is_nan() {
+        return 0;
+    }
+    count_coarser(prefix_min_cdiam, k)
+}
+
+/// Number of LODs past 0 that are invisible: the prefix minima above
+/// `k_cdiam` (they are non-increasing, so this is the coarsest safe LOD).
+#[inline(always)]
+fn count_coarser(prefix_min_cdiam: &[f32], k_cdiam: f32) -> usize {
+    prefix_min_cdiam
+        .iter()
+        .map(|&f| (f > k_cdiam) as usize)
+        .sum()
+}
+
+#[inline(always)]
+fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
+    c: &FrameConsts<'_>,
+    objects: &[ObjectRecord],
+    motion: &mut [MotionState],
+    first_index: u32,
+    out: Outputs<'_>,
+) {
+    let Outputs {
+        selections,
+        mut diagnostics,
+        mut budget,
+    } = out;
+    for (i, ((rec, m), sel)) in objects
+        .iter()
+        .zip(motion.iter_mut())
+        .zip(selections.iter_mut())
+        .enumerate()
+    {
+        let rel = (rec.center - c.cam_pos).as_vec3();
+        let p = c.world_to_eye * rel;
+        let d2 = p.length_squared();
+        let r = rec.radius;
+        let inside = d2 <= r * r;
+        if c.cull && !inside && outside_frustum(c, p, r) {
+            *sel = Selection::CULLED;
+            *m = NO_HISTORY;
+            if let Some(b) = budget.as_deref_mut() {
+                b[i].row = u32::MAX;
+            }
+            continue;
+        }
+        let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
+        let sin_half = fastmath::min(r * inv_d, 1.0);
+        let theta_deg = if inside {
+            180.0
+        } else {
+            2.0 * fastmath::asin(sin_half) * RAD_TO_DEG
+        };
+        let eccentricity_deg = if ECCENTRICITY {
+            let angle_deg = fastmath::acos(-p.z * inv_d) * RAD_TO_DEG;
+            fastmath::max(angle_deg - 0.5 * theta_deg - c.margin_deg, 0.0)
+        } else {
+            0.0
+        };
+        let velocity_deg_per_s = if VELOCITY {
+            let dir = p * inv_d;
+            let v = if m.velocity_deg_per_s < 0.0 {
+                0.0
+            } else if c.dt_valid {
+                let chord = (dir - m.dir_eye).length();
+                let step_deg = 2.0 * fastmath::asin(0.5 * chord) * RAD_TO_DEG;
+                let v_now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
+                m.velocity_deg_per_s + c.alpha * (v_now - m.velocity_deg_per_s)
+            } else {
+                m.velocity_deg_per_s
+            };
+            *m = MotionState {
+                dir_eye: dir,
+                velocity_deg_per_s: v,
+            };
+            if first_index + i as u32 == c.pursued {
+                0.0
+            } else {
+                v
+            }
+        } else {
+            0.0
+        };
+        let g = if VELOCITY {
+            let v = fastmath::clamp(
+                velocity_deg_per_s,
+                VELOCITY_FLOOR_DEG_PER_S,
+                VELOCITY_CEILING_DEG_PER_S,
+            );
+            fastmath::clamp(
+                57.69 - 27.78 * fastmath::log10(v),
+                MIN_ACUITY_CPD,
+                MAX_ACUITY_CPD,
+            )
+        } else {
+            MAX_ACUITY_CPD
+        };
+        let m_factor = if ECCENTRICITY {
+            let e = fastmath::clamp(
+                eccentricity_deg,
+                ECCENTRICITY_FLOOR_DEG,
+                ECCENTRICITY_CEILING_DEG,
+            );
+            let q = 0.3 * e + 1.0;
+            fastmath::min(7.49 / (q * q), 1.0)
+        } else {
+            1.0
+        };
+        let threshold_cpd = c.scale * fastmath::min(g * m_factor, c.limit_cpd);
+        let size_deg = if c.size_on { theta_deg } else { c.fill_deg };
+        // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
+        let k_cdiam = if inside {
+            f32::INFINITY
+        } else {
+            threshold_cpd * size_deg
+        };
+        let profile = &c.profiles[rec.profile as usize];
+        let n = profile.lod_count - 1;
+        let row = match (&profile.views, NEAREST) {
+            (Some(views), true) => {
+                let to_camera_obj = rec.rotation.conjugate() * (-rel);
+                profile.rows_start + (1 + views.nearest(to_camera_obj)) * n
+            }
+            _ => profile.rows_start,
+        };
+        let lod = count_coarser(&c.rows[row..row + n], k_cdiam);
+        *sel = Selection(lod as u8);
+        if let Some(d) = diagnostics.as_deref_mut() {
+            d[i] = Diagnostics {
+                angular_size_deg: theta_deg,
+                eccentricity_deg,
+                velocity_deg_per_s,
+                threshold_cpd,
+            };
+        }
+        if let Some(b) = budget.as_deref_mut() {
+            b[i] = BudgetEntry {
+                k_cdiam,
+                row: row as u32,
+            };
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! The command-line tools' building blocks: scene files, camera and gaze
+//! paths, and the baseline LOD policies acuity is compared with.
+//!
+//! Nothing here is needed by the runtime; it is compiled only with the
+//! `tools` feature (on by default).
+//!
+//! - [`scene`]: the TOML scene format, [`scene::Scene::load`] and its one
+//!   error type [`scene::SceneError`].
+//! - [`path`]: the evaluated camera path, [`path::CameraPath::sample`].
+//! - [`gaze`]: the evaluated gaze, [`gaze::Gaze::sample`].
+//! - [`placement`]: concrete object placements, including seeded copies.
+//! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
+
+pub mod gaze;
+pub mod path;
+pub mod placement;
+pub mod scene;
+pub mod screen_size;
+pub mod thresholds;

@@ -1,0 +1,197 @@
+//! Finding the sampled viewpoint nearest to a view direction, in constant
+//! time and without unpredictable branches.
+//!
+//! A cube map over the sphere of directions stores, per cell, the (at most
+//! two) viewpoints that can be nearest anywhere in the cell; the lookup
+//! compares the direction with both and keeps the closer. Cells with more
+//! candidates (near a Voronoi vertex; about 1% of them) fall back to a
+//! scan. The candidate sets are conservative, so the answer is exact: if
+//! `c` is the cell's centre, `rho` its angular radius and `w*` the viewpoint
+//! nearest `c`, every point of the cell is within `angle(w*, c) + rho` of
+//! `w*`, so only viewpoints within `angle(w*, c) + 2 rho` of `c` can be
+//! nearest anywhere in it.
+
+use glam::Vec3;
+
+/// Cells per cube-face edge.
+const RESOLUTION: usize = 32;
+/// Marks a cell with more than two candidates.
+const SCAN: u16 = u16::MAX;
+/// Dot products closer than this count as a tie (tests only skip those).
+const TIE_MARGIN: f32 = 1e-5;
+
+/// Nearest-viewpoint lookup for one viewpoint set.
+#[derive(Clone, Debug)]
+pub(crate) struct ViewpointLookup {
+    directions: Vec<Vec3>,
+    /// Two candidates per cell (equal when one suffices).
+    cells: Vec<[u16; 2]>,
+}
+
+impl ViewpointLookup {
+    /// Builds the lookup. `directions` are unit vectors, fewer than 65535.
+    pub(crate) fn new(directions: Vec<Vec3>) -> Self {
+        debug_assert!(!directions.is_empty() && directions.len() < SCAN as usize);
+        let mut cells = vec![[SCAN; 2]; 6 * RESOLUTION * RESOLUTION];
+        let step = 2.0 / RESOLUTION as f64;
+        let mut candidates = Vec::new();
+        for face in 0..6 {
+            for j in 0..RESOLUTION {
+                for i in 0..RESOLUTION {
+                    let (u0, v0) = (i as f64 * step - 1.0, j as f64 * step - 1.0);
+                    let centre = face_point(face, u0 + 0.5 * step, v0 + 0.5 * step).normalize();
+                    let rho = [(0.0, 0.0), (step, 0.0), (0.0, step), (step, step)]
+                        .iter()
+                        .map(|&(du, dv)| {
+                            angle(centre, face_point(face, u0 + du, v0 + dv).normalize())
+                        })
+                        .fold(0.0, f64::max);
+                    let angles: Vec<f64> = directions
+                        .iter()
+                        .map(|d| angle(centre, d.as_dvec3()))
+                        .collect();
+                    let nearest = angles.iter().copied().fold(f64::INFINITY, f64::min);
+                    // The margin absorbs f32 rounding of the cell index.
+                    let reach = nearest + 2.0 * rho + 1e-4;
+                    candidates.clear();
+                    candidates.extend((0..directions.len()).filter(|&k| angles[k] <= reach));
+                    let cell = &mut cells[(face * RESOLUTION + j) * RESOLUTION + i];
+                    match candidates[..] {
+                        [a] => *cell = [a as u16; 2],
+                        [a, b] => *cell = [a as u16, b as u16],
+                        _ => {}
+                    }
+                }
+            }
+        }
+        Self { directions, cells }
+    }
+
+    /// The index of the viewpoint nearest to `dir` (any non-zero vector;
+    /// zero or non-finite vectors give some valid index).
+    #[inline(always)]
+    pub(crate) fn nearest(&self, dir: Vec3) -> usize {
+        let (face, u, v) = cube_coords(dir);
+        let i = (((u + 1.0) * (0.5 * RESOLUTION as f32)) as usize).min(RESOLUTION - 1);
+        let j = (((v + 1.0) * (0.5 * RESOLUTION as f32)) as usize).min(RESOLUTION - 1);
+        let [a, b] = self.cells[(face * RESOLUTION + j) * RESOLUTION + i];
+        if a == SCAN {
+            return nearest_with_margin(&self.directions, dir).0;
+        }
+        let (a, b) = (a as usize, b as usize);
+        let pick_b = (self.directions[b].dot(dir) > self.directions[a].dot(dir)) as usize;
+        a + b.wrapping_sub(a).wrapping_mul(pick_b)
+    }
+
+    /// Fraction of cells that need a scan.
+    #[cfg(test)]
+    fn scan_fraction(&self) -> f64 {
+        self.cells.iter().filter(|c| c[0] == SCAN).count() as f64 / self.cells.len() as f64
+    }
+}
+
+fn angle(a: glam::DVec3, b: glam::DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+/// The nearest direction by largest dot product, and whether it beats the
+/// runner-up by more than the tie margin.
+fn nearest_with_margin(directions: &[Vec3], d: Vec3) -> (usize, bool) {
+    let mut best = (0, f32::NEG_INFINITY);
+    let mut second = f32::NEG_INFINITY;
+    for (k, dir) in directions.iter().enumerate() {
+        let dot = dir.dot(d);
+        if dot > best.1 {
+            second = best.1;
+            best = (k, dot);
+        } else if dot > second {
+            second = dot;
+        }
+    }
+    (best.0, best.1 - second > TIE_MARGIN)
+}
+
+/// The point on the cube's face `face` at face coordinates `(u, v)` in
+/// `[-1, 1]`. Faces: 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
+fn face_point(face: usize, u: f64, v: f64) -> glam::DVec3 {
+    use glam::DVec3;
+    match face {
+        0 => DVec3::new(1.0, u, v),
+        1 => DVec3::new(-1.0, u, v),
+        2 => DVec3::new(u, 1.0, v),
+        3 => DVec3::new(u, -1.0, v),
+        4 => DVec3::new(u, v, 1.0),
+        _ => DVec3::new(u, v, -1.0),
+    }
+}
+
+/// The inverse of [`face_point`] for a direction: its face by major axis
+/// and the face coordinates of its central projection. Written with
+/// selects rather than branches: the face is random from object to object.
+#[inline(always)]
+fn cube_coords(d: Vec3) -> (usize, f32, f32) {
+    let a = d.abs();
+    let x_major = (a.x >= a.y) & (a.x >= a.z);
+    let y_major = !x_major & (a.y >= a.z);
+    let (xm, ym) = (x_major as u32 as f32, y_major as u32 as f32);
+    let zm = 1.0 - xm - ym;
+    let major = a.x * xm + a.y * ym + a.z * zm;
+    let signed = d.x * xm + d.y * ym + d.z * zm;
+    let u = d.y * xm + d.x * (1.0 - xm);
+    let v = d.z * (1.0 - zm) + d.y * zm;
+    let face = 2 * (y_major as usize) + 4 * (zm as usize) + (signed < 0.0) as usize;
+    let inv = 1.0 / major;
+    (face, u * inv, v * inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The octahedron's vertices and its 12 edge midpoints: 18 directions.
+    fn eighteen() -> Vec<Vec3> {
+        let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+        let mut dirs = axes.to_vec();
+        for (i, a) in axes.iter().enumerate() {
+            for b in &axes[i + 1..] {
+                if a.dot(*b) == 0.0 {
+                    dirs.push((*a + *b).normalize());
+                }
+            }
+        }
+        dirs
+    }
+
+    #[test]
+    fn lookup_matches_a_full_scan() {
+        let lookup = ViewpointLookup::new(eighteen());
+        assert_eq!(lookup.directions.len(), 18);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        for _ in 0..200_000 {
+            let d = Vec3::new(next(), next(), next());
+            if d.length_squared() < 1e-6 {
+                continue;
+            }
+            let (exact, clear) = nearest_with_margin(&lookup.directions, d.normalize());
+            if clear {
+                assert_eq!(lookup.nearest(d), exact, "direction {d}");
+            }
+        }
+        let scan = lookup.scan_fraction();
+        assert!(scan < 0.05, "{scan} of cells need a scan");
+    }
+
+    #[test]
+    fn degenerate_directions_give_a_valid_index() {
+        let lookup = ViewpointLookup::new(eighteen());
+        for d in [Vec3::ZERO, Vec3::NAN, Vec3::INFINITY, Vec3::splat(1e30)] {
+            assert!(lookup.nearest(d) < 18);
+        }
+    }
+}

@@ -1,0 +1,68 @@
+//! Once warm, the frame loop allocates nothing.
+#![allow(unsafe_code)] // A counting global allocator needs it; the library forbids unsafe code.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use acuity::{Camera, Display, FrameInput, Gaze, ObjectDesc, Selector, SelectorSettings};
+use common::{Rng, four_lod_profile, single_lod_profile};
+use glam::{DVec3, Quat};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn warm_frames_allocate_nothing() {
+    let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+    let mut sel = Selector::new(display, SelectorSettings::default());
+    let p = sel.add_profile(&four_lod_profile(1)).unwrap();
+    let single = sel.add_profile(&single_lod_profile()).unwrap();
+    let mut rng = Rng(1);
+    for i in 0..5000 {
+        sel.add_object(ObjectDesc {
+            center: rng.point(100.0),
+            radius: 1.0,
+            rotation: Quat::IDENTITY,
+            profile: if i % 10 == 0 { single } else { p },
+        })
+        .unwrap();
+    }
+    let mut frame = FrameInput {
+        camera: Camera {
+            position: DVec3::ZERO,
+            orientation: Quat::IDENTITY,
+        },
+        gaze: Gaze::default(),
+        dt_s: 1.0 / 90.0,
+        scale: 1.0,
+    };
+    // Warm up every path once.
+    sel.select(&frame).unwrap();
+    sel.select_with_diagnostics(&frame).unwrap();
+    sel.select_within_budget(&frame, 100_000).unwrap();
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    for f in 0..20 {
+        frame.camera.orientation = Quat::from_rotation_y(0.02 * f as f32);
+        sel.select(&frame).unwrap();
+        sel.select_with_diagnostics(&frame).unwrap();
+        sel.select_within_budget(&frame, 100_000).unwrap();
+    }
+    let during = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    assert_eq!(during, 0, "{during} allocations in 60 warm frames");
+}

@@ -1,0 +1,190 @@
+//! The fast selection loop (polynomial asin/acos/log10, cube-map viewpoint
+//! lookup, f32) against an exact oracle written from REFERENCE §2–§4 in
+//! f64 with the standard library's functions.
+
+mod common;
+
+use acuity::{
+    Camera, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings, Tracker,
+};
+use common::{Rng, four_lod_profile};
+use glam::{DQuat, DVec3, Vec3};
+
+struct Oracle {
+    rows: Vec<Vec<f64>>,
+    views: Vec<DVec3>,
+}
+
+impl Oracle {
+    fn new(p: &Profile) -> Self {
+        let rows = (0..p.viewpoints.len())
+            .map(|v| {
+                let mut m = f64::INFINITY;
+                p.view_transitions(v)
+                    .iter()
+                    .map(|t| {
+                        m = m.min(t.lowest_cdiam.map_or(f64::INFINITY, |f| f as f64));
+                        m
+                    })
+                    .collect()
+            })
+            .collect();
+        let views = p
+            .viewpoints
+            .iter()
+            .map(|v| Vec3::from_array(*v).as_dvec3())
+            .collect();
+        Self { rows, views }
+    }
+
+    /// Returns the LOD and the smallest relative distance of `k` to any of
+    /// the row's frequencies (how close the choice is to a tie).
+    #[allow(clippy::too_many_arguments)]
+    fn select(
+        &self,
+        xi: f64,
+        cam: DVec3,
+        cam_rot: DQuat,
+        center: DVec3,
+        prev_center: DVec3,
+        radius: f64,
+        rot: DQuat,
+        dt: f64,
+        alpha: f64,
+    ) -> (usize, f64) {
+        let to_eye = cam_rot.inverse();
+        let rel = to_eye * (center - cam);
+        let d = rel.length();
+        let theta = 2.0 * (radius / d).asin().to_degrees();
+        let ecc_angle = rel
+            .normalize()
+            .dot(DVec3::NEG_Z)
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees();
+        let ecc = (ecc_angle - theta / 2.0 - 1.0).max(0.0);
+        let prev = (to_eye * (prev_center - cam)).normalize();
+        let step = 2.0
+            * ((rel.normalize() - prev).length() / 2.0)
+                .asin()
+                .to_degrees();
+        let v = alpha * step / dt;
+        let g = if v <= 0.8257463 {
+            60.0
+        } else if v > 118.32436 {
+            0.1
+        } else {
+            57.69 - 27.78 * v.log10()
+        };
+        let e = ecc.min(80.0);
+        let m = if e <= 5.789288 {
+            1.0
+        } else {
+            7.49 / (0.3 * e + 1.0).powi(2)
+        };
+        let t = (g * m).min(xi);
+        let k = t * theta;
+        let to_camera = rot.inverse() * (cam - center).normalize();
+        let view = (0..self.views.len())
+            .max_by(|&a, &b| {
+                self.views[a]
+                    .dot(to_camera)
+                    .total_cmp(&self.views[b].dot(to_camera))
+            })
+            .unwrap();
+        let row = &self.rows[view];
+        let lod = row.iter().filter(|&&f| f > k).count();
+        let margin = row
+            .iter()
+            .filter(|f| f.is_finite())
+            .map(|f| ((f - k) / k).abs())
+            .fold(f64::INFINITY, f64::min);
+        (lod, margin)
+    }
+}
+
+#[test]
+fn fast_loop_picks_the_exact_models_lod() {
+    let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+    let profile = four_lod_profile(3);
+    let oracle = Oracle::new(&profile);
+    let mut rng = Rng(2024);
+    let mut selector = Selector::new(
+        display,
+        SelectorSettings {
+            cull: false,
+            ..Default::default()
+        },
+    );
+    let p = selector.add_profile(&profile).unwrap();
+    let n = 100_000;
+    let cam = DVec3::new(3.0, -2.0, 1.0);
+    let cam_rot = rng.rotation();
+    let mut objects = Vec::with_capacity(n);
+    for _ in 0..n {
+        let distance = rng.range(2f64.ln(), 300f64.ln()).exp();
+        let center = cam + rng.direction().as_dvec3() * distance;
+        let prev = center + rng.direction().as_dvec3() * rng.range(0.0, 0.02) * distance;
+        let radius = rng.range(0.2, 1.9);
+        let rot = rng.rotation();
+        let id = selector
+            .add_object(ObjectDesc {
+                center: prev,
+                radius: radius as f32,
+                rotation: rot,
+                profile: p,
+            })
+            .unwrap();
+        objects.push((id, center, prev, radius, rot));
+    }
+    let dt = 1.0 / 60.0;
+    let frame = FrameInput {
+        camera: Camera {
+            position: cam,
+            orientation: cam_rot,
+        },
+        gaze: Gaze::screen_centre(Tracker::eye_default()),
+        dt_s: dt,
+        scale: 1.0,
+    };
+    selector.select(&frame).unwrap();
+    for (id, center, _, _, rot) in &objects {
+        selector.set_pose(*id, *center, *rot).unwrap();
+    }
+    selector.select(&frame).unwrap();
+    let alpha = 1.0 - (-(dt as f64) / 0.05).exp();
+    let xi = display.max_frequency_cpd() as f64;
+    let (mut agree, mut near_tie, mut clear_disagree) = (0, 0, 0);
+    let mut lod_counts = [0usize; 4];
+    for (id, center, prev, radius, rot) in &objects {
+        let (exact, margin) = oracle.select(
+            xi,
+            cam,
+            cam_rot.as_dquat(),
+            *center,
+            *prev,
+            *radius,
+            rot.as_dquat(),
+            dt as f64,
+            alpha,
+        );
+        let fast = selector.selection(*id).lod().unwrap();
+        lod_counts[exact] += 1;
+        if fast == exact {
+            agree += 1;
+        } else if margin < 1e-4 {
+            near_tie += 1;
+        } else {
+            clear_disagree += 1;
+        }
+    }
+    println!(
+        "{agree} agree, {near_tie} differ within 1e-4 of a threshold, {clear_disagree} differ clearly; exact LODs {lod_counts:?}"
+    );
+    assert_eq!(clear_disagree, 0);
+    assert!(near_tie <= n / 10_000, "{near_tie} near-tie differences");
+    assert!(
+        lod_counts.iter().all(|&c| c > n / 50),
+        "the scene must exercise every LOD: {lod_counts:?}"
+    );
+}

@@ -1,0 +1,114 @@
+//! Shared test fixtures: a seeded generator and synthetic profiles.
+#![allow(dead_code)]
+
+use acuity::profile::{PROFILE_FORMAT_VERSION, Profile, TransitionFrequencies};
+use glam::{DVec3, Quat, Vec3};
+
+/// SplitMix64: small, seeded, repeatable.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    pub fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                self.range(-1.0, 1.0) as f32,
+                self.range(-1.0, 1.0) as f32,
+                self.range(-1.0, 1.0) as f32,
+            );
+            if let Some(n) = v.try_normalize()
+                && v.length_squared() <= 1.0
+            {
+                return n;
+            }
+        }
+    }
+    pub fn rotation(&mut self) -> Quat {
+        Quat::from_axis_angle(
+            self.direction(),
+            self.range(0.0, std::f64::consts::TAU) as f32,
+        )
+    }
+    pub fn point(&mut self, half_extent: f64) -> DVec3 {
+        DVec3::new(
+            self.range(-half_extent, half_extent),
+            self.range(-half_extent, half_extent),
+            self.range(-half_extent, half_extent),
+        )
+    }
+}
+
+/// The 18 viewpoints of a once-subdivided octahedron.
+pub fn eighteen_viewpoints() -> Vec<[f32; 3]> {
+    let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let mut dirs: Vec<Vec3> = axes.to_vec();
+    for (i, a) in axes.iter().enumerate() {
+        for b in &axes[i + 1..] {
+            if a.dot(*b) == 0.0 {
+                dirs.push((*a + *b).normalize());
+            }
+        }
+    }
+    dirs.iter().map(|d| d.to_array()).collect()
+}
+
+/// A 4-LOD profile (the paper's 3928/834/254/76 triangles) over 18
+/// viewpoints whose transitions remove coarser features as LODs coarsen,
+/// with per-viewpoint variation; some transitions have no unique feature.
+pub fn four_lod_profile(seed: u64) -> Profile {
+    let mut rng = Rng(seed);
+    let viewpoints = eighteen_viewpoints();
+    let mut transitions = Vec::new();
+    for _ in &viewpoints {
+        for t in 0..3 {
+            let lowest = if rng.unit() < 0.05 {
+                None
+            } else {
+                Some((240.0 / (1 << (2 * t)) as f64 * rng.range(0.6, 1.6)) as f32)
+            };
+            transitions.push(TransitionFrequencies {
+                lowest_cdiam: lowest,
+                histogram: vec![],
+            });
+        }
+    }
+    Profile {
+        format_version: PROFILE_FORMAT_VERSION,
+        name: format!("synthetic-{seed}"),
+        lod_triangles: vec![3928, 834, 254, 76],
+        bounding_radius: 1.0,
+        viewpoints,
+        histogram_edges_cdiam: vec![],
+        transitions,
+        settings: Default::default(),
+        inputs: vec![],
+    }
+}
+
+/// A profile with one LOD.
+pub fn single_lod_profile() -> Profile {
+    Profile {
+        format_version: PROFILE_FORMAT_VERSION,
+        name: "single".into(),
+        lod_triangles: vec![500],
+        bounding_radius: 1.0,
+        viewpoints: vec![[0.0, 0.0, 1.0]],
+        histogram_edges_cdiam: vec![],
+        transitions: vec![],
+        settings: Default::default(),
+        inputs: vec![],
+    }
+}

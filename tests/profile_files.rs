@@ -1,0 +1,127 @@
+//! Profile files on disk: round trips, refusals, and hostile bytes.
+
+mod common;
+
+use acuity::{Error, Profile};
+use common::four_lod_profile;
+use proptest::prelude::*;
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("acuity-profile-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn both_encodings_round_trip_bit_identical_through_files() {
+    let dir = temp_dir("roundtrip");
+    let p = four_lod_profile(5);
+    for name in ["a.json", "a.acp"] {
+        let path = dir.join(name);
+        p.save(&path).unwrap();
+        let first = std::fs::read(&path).unwrap();
+        let back = Profile::load(&path).unwrap();
+        assert_eq!(back, p);
+        back.save(&path).unwrap();
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            first,
+            "{name} changed on rewrite"
+        );
+    }
+    let json = std::fs::metadata(dir.join("a.json")).unwrap().len();
+    let bin = std::fs::metadata(dir.join("a.acp")).unwrap().len();
+    assert!(bin * 4 < json, "binary {bin} bytes, JSON {json} bytes");
+}
+
+#[test]
+fn invalid_profiles_are_not_written() {
+    let dir = temp_dir("refuse");
+    let mut p = four_lod_profile(5);
+    p.transitions[7].lowest_cdiam = Some(f32::INFINITY);
+    for name in ["bad.json", "bad.acp"] {
+        let path = dir.join(name);
+        let e = p.save(&path).unwrap_err();
+        assert!(e.to_string().contains("transitions[7].lowest_cdiam"), "{e}");
+        assert!(!path.exists());
+    }
+}
+
+#[test]
+fn non_finite_values_in_a_file_are_refused_on_read() {
+    // A binary file with a NaN and a correct checksum: only validation can
+    // catch it.
+    let p = four_lod_profile(5);
+    let mut bytes = acuity::profile::binary::encode(&p).unwrap();
+    let radius_at = bytes
+        .windows(4)
+        .position(|w| w == 1.0f32.to_le_bytes())
+        .unwrap();
+    bytes[radius_at..radius_at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let body = bytes.len() - 8;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in &bytes[..body] {
+        h = (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    bytes[body..].copy_from_slice(&h.to_le_bytes());
+    let e = Profile::from_bytes(&bytes).unwrap_err();
+    assert!(
+        matches!(&e, Error::ProfileInvalid { field, .. } if field == "bounding_radius"),
+        "{e}"
+    );
+}
+
+#[test]
+fn errors_name_the_file() {
+    let dir = temp_dir("names");
+    let path = dir.join("broken.json");
+    std::fs::write(&path, b"{\"format_version\": 1, \"name\": 3}").unwrap();
+    let e = Profile::load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("broken.json") && e.contains("name") && e.contains("line 1"),
+        "{e}"
+    );
+    let e = Profile::load(dir.join("missing.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing.json"), "{e}");
+}
+
+#[test]
+fn a_newer_version_is_refused_by_number() {
+    let json =
+        String::from_utf8(acuity::profile::json::encode(&four_lod_profile(1)).unwrap()).unwrap();
+    let json = json.replacen("\"format_version\": 1", "\"format_version\": 2", 1);
+    assert!(matches!(
+        Profile::from_bytes(json.as_bytes()),
+        Err(Error::ProfileVersion { found: 2, .. })
+    ));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn garbage_never_panics(bytes in proptest::collection::vec(any::<u8>(), 0..512)) {
+        let _ = Profile::from_bytes(&bytes);
+        let mut with_magic = acuity::profile::binary::MAGIC.to_vec();
+        with_magic.extend_from_slice(&bytes);
+        prop_assert!(Profile::from_bytes(&with_magic).is_err());
+    }
+
+    #[test]
+    fn corrupted_files_are_errors_never_panics(pos in any::<prop::sample::Index>(), byte in any::<u8>(), cut in any::<prop::sample::Index>()) {
+        // A JSON file without its final newline is still whole.
+        for (bytes, whole_without) in [
+            (acuity::profile::binary::encode(&four_lod_profile(2)).unwrap(), 0),
+            (acuity::profile::json::encode(&four_lod_profile(2)).unwrap(), 1),
+        ] {
+            let mut b = bytes.clone();
+            let i = pos.index(b.len());
+            b[i] = byte;
+            let _ = Profile::from_bytes(&b);
+            let n = cut.index(bytes.len() - whole_without);
+            prop_assert!(Profile::from_bytes(&bytes[..n]).is_err());
+        }
+    }
+}

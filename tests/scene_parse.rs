@@ -1,0 +1,209 @@
+//! Scene files: every shipped scene parses, every bad fixture is refused
+//! with an error naming its field and line, and no text makes the parser
+//! panic.
+//!
+//! Each fixture in `tests/fixtures/scenes/` states what it expects:
+//! `# expect-field: <path>` on its first line, and the offending line marked
+//! with `# <- error` (or `# expect-line: N` where the error has no line of
+//! its own, e.g. a missing table).
+
+#![cfg(feature = "tools")]
+
+use std::path::{Path, PathBuf};
+
+use acuity::tools::scene::{MeshSource, Policy, Scene, SceneError};
+use proptest::prelude::*;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn fixtures() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("tests/fixtures/scenes"))
+        .expect("fixture folder")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+struct Expect {
+    field: String,
+    line: usize,
+}
+
+fn expectation(path: &Path, text: &str) -> Expect {
+    let field = text
+        .lines()
+        .find_map(|l| l.strip_prefix("# expect-field: "))
+        .unwrap_or_else(|| panic!("{}: no `# expect-field:` line", path.display()))
+        .trim()
+        .to_string();
+    let line = text
+        .lines()
+        .find_map(|l| l.strip_prefix("# expect-line: "))
+        .map(|n| n.trim().parse().expect("line number"))
+        .or_else(|| {
+            text.lines()
+                .position(|l| l.contains("# <- error"))
+                .map(|i| i + 1)
+        })
+        .unwrap_or_else(|| panic!("{}: no `# <- error` marker", path.display()));
+    Expect { field, line }
+}
+
+#[test]
+fn shipped_scenes_load() {
+    for name in ["default.toml", "reddy1998.toml", "vr_sweep.toml"] {
+        let path = root().join("scenes").join(name);
+        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!scene.objects.is_empty(), "{name}");
+        assert!(scene.run.frames > 0, "{name}");
+        for o in &scene.objects {
+            assert_eq!(o.placements().len(), o.placement.count(), "{name}");
+            assert!(o.source.n_lods() >= 1);
+        }
+    }
+}
+
+#[test]
+fn reddy1998_matches_the_papers_setup() {
+    let scene = Scene::load(root().join("scenes/reddy1998.toml")).unwrap();
+    assert_eq!(scene.display.fov_deg, [43.6, 33.4]);
+    assert_eq!(scene.camera.duration_s, 5.0);
+    let (p, _) = scene.camera.sample(5.0);
+    assert!((p.length() - 4.36 * 5.0).abs() < 1e-9, "{p}");
+    assert_eq!(scene.objects.len(), 1);
+    match &scene.objects[0].source {
+        MeshSource::Procedural { triangles, .. } => assert_eq!(triangles, &[3928, 834, 254, 76]),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn default_scene_runs_every_policy() {
+    let scene = Scene::load(root().join("scenes/default.toml")).unwrap();
+    for p in Policy::ALL {
+        assert!(scene.run.policies.contains(&p), "{}", p.name());
+    }
+    // The tracked bunny is in front of the camera at the start.
+    let g = scene.gaze().sample(0.0);
+    assert!(g.z < 0.0, "{g}");
+}
+
+#[test]
+fn vr_sweep_reaches_200_deg_per_s() {
+    let scene = Scene::load(root().join("scenes/vr_sweep.toml")).unwrap();
+    assert_eq!(scene.run.target_hz, 90.0);
+    let end = scene.camera.duration_s;
+    let dt = 1e-4;
+    let a = scene.camera.forward(end - dt);
+    let b = scene.camera.forward(end);
+    let rate = a.angle_between(b).to_degrees() / dt;
+    assert!((rate - 200.0).abs() < 1.0, "{rate}");
+}
+
+#[test]
+fn bad_fixtures_name_field_and_line() {
+    let files = fixtures();
+    assert!(files.len() >= 20, "{} fixtures", files.len());
+    let mut failures = Vec::new();
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let want = expectation(&path, &text);
+        let err = match Scene::load(&path) {
+            Ok(_) => {
+                failures.push(format!("{}: parsed, expected an error", path.display()));
+                continue;
+            }
+            Err(e) => e,
+        };
+        let shown = err.to_string();
+        eprintln!("{shown}");
+        if err.field() != Some(want.field.as_str()) || err.line() != Some(want.line) {
+            failures.push(format!(
+                "{}: expected `{}` at line {}, got {:?} at {:?}: {shown}",
+                path.display(),
+                want.field,
+                want.line,
+                err.field(),
+                err.line()
+            ));
+        }
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !shown.contains(&name) || !shown.contains(&format!(":{}:", want.line)) {
+            failures.push(format!("{name}: message lacks file or line: {shown}"));
+        }
+        if !shown.contains(&want.field) && !matches!(err, SceneError::Format { .. }) {
+            failures.push(format!("{name}: message lacks the field: {shown}"));
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+#[test]
+fn missing_file_is_an_io_error_naming_the_file() {
+    let err = Scene::load("no/such/scene.toml").unwrap_err();
+    assert!(matches!(err, SceneError::Io { .. }));
+    assert!(err.to_string().contains("no/such/scene.toml"));
+}
+
+#[test]
+fn every_truncation_of_every_scene_is_handled() {
+    let mut texts: Vec<String> = ["default.toml", "reddy1998.toml", "vr_sweep.toml"]
+        .iter()
+        .map(|n| std::fs::read_to_string(root().join("scenes").join(n)).unwrap())
+        .collect();
+    texts.extend(
+        fixtures()
+            .iter()
+            .map(|p| std::fs::read_to_string(p).unwrap()),
+    );
+    for text in &texts {
+        for (cut, _) in text.char_indices() {
+            let _ = Scene::parse(&text[..cut], "truncated.toml");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn arbitrary_text_never_panics(text in ".{0,400}") {
+        if let Err(e) = Scene::parse(&text, "garbage.toml") {
+            prop_assert!(e.line().is_some_and(|l| l >= 1));
+        }
+    }
+
+    #[test]
+    fn toml_like_text_never_panics(
+        text in r#"(\[{1,2}[a-z_]{1,12}\]{1,2}\n|[a-z_]{1,12} = (-?[0-9]{1,4}(\.[0-9]+)?|"[a-z.]{0,8}"|\[[0-9, .]{0,12}\]|\{ ?[a-z]{1,5} = [0-9]{1,3} ?\}|nan|inf|true)\n){0,20}"#
+    ) {
+        let _ = Scene::parse(&text, "fuzz.toml");
+    }
+
+    #[test]
+    fn mutated_default_scene_never_panics(cut in 0usize..4000, byte in any::<u8>()) {
+        let text = std::fs::read_to_string(root().join("scenes/default.toml")).unwrap();
+        let mut bytes = text.into_bytes();
+        let at = cut % bytes.len();
+        bytes[at] = byte;
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = Scene::parse(&text, "mutated.toml");
+    }
+}
+
+#[test]
+fn deeply_nested_values_do_not_overflow_the_stack() {
+    for depth in [100, 10_000, 200_000] {
+        let arrays = format!("x = {}{}\n", "[".repeat(depth), "]".repeat(depth));
+        let tables = format!("x = {}1{}\n", "{a=".repeat(depth), "}".repeat(depth));
+        let headers = format!("[{}]\n", vec!["a"; depth].join("."));
+        for text in [arrays, tables, headers] {
+            let e = Scene::parse(&text, "deep.toml").unwrap_err();
+            assert!(e.line().is_some());
+        }
+    }
+}
