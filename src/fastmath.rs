@@ -43,7 +43,13 @@ pub fn asin(x: f32) -> f32 {
     if x.is_nan() {
         return x;
     }
-    let x = clamp(x, -1.0, 1.0);
+    asin_unchecked(clamp(x, -1.0, 1.0))
+}
+
+/// [`asin`] without the domain handling: `x` must lie in `[-1, 1]`.
+/// Straight-line code (selects, no branches), so loops over it vectorise.
+#[inline(always)]
+pub(crate) fn asin_unchecked(x: f32) -> f32 {
     let a = x.abs();
     let big = a > 0.5;
     let z = if big { 0.5 * (1.0 - a) } else { a * a };
@@ -60,18 +66,21 @@ pub fn acos(x: f32) -> f32 {
     if x.is_nan() {
         return x;
     }
-    let x = clamp(x, -1.0, 1.0);
+    acos_unchecked(clamp(x, -1.0, 1.0))
+}
+
+/// [`acos`] without the domain handling: `x` must lie in `[-1, 1]`.
+/// Straight-line code, so loops over it vectorise.
+#[inline(always)]
+pub(crate) fn acos_unchecked(x: f32) -> f32 {
     let a = x.abs();
     let big = a > 0.5;
     let z = if big { 0.5 * (1.0 - a) } else { a * a };
     let s = if big { z.sqrt() } else { a };
     let p = asin_core(s, z);
-    if big {
-        let r = 2.0 * p;
-        if x < 0.0 { PI - r } else { r }
-    } else {
-        FRAC_PI_2 - p.copysign(x)
-    }
+    let far = if x < 0.0 { PI - 2.0 * p } else { 2.0 * p };
+    let near = FRAC_PI_2 - p.copysign(x);
+    if big { far } else { near }
 }
 
 /// Base-10 logarithm. Domain: finite `x > 0` and normal (at least
@@ -79,12 +88,10 @@ pub fn acos(x: f32) -> f32 {
 #[inline(always)]
 pub fn log10(x: f32) -> f32 {
     let bits = x.to_bits();
-    let mut exponent = ((bits >> 23) & 0xff) as i32 - 127;
-    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
-    if m > std::f32::consts::SQRT_2 {
-        m *= 0.5;
-        exponent += 1;
-    }
+    let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    let big = m > std::f32::consts::SQRT_2;
+    let m = if big { 0.5 * m } else { m };
+    let exponent = ((bits >> 23) & 0xff) as i32 - 127 + big as i32;
     let y = m - 1.0;
     let z = y * y;
     let p = ((((((((7.037_683_6e-2 * y - 1.151_461e-1) * y + 1.167_699_9e-1) * y

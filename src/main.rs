@@ -22,6 +22,15 @@ enum Command {
     /// Where a display lets detail drop: xi, eccentricity and velocity
     /// thresholds (Reddy 1998 §4).
     Thresholds(DisplayArgs),
+    /// Analyse a scene's objects (or one OBJ) into profiles: render every
+    /// LOD from viewpoints on the view sphere, measure the frequencies each
+    /// LOD transition removes. Unchanged inputs are not analysed again.
+    Preprocess(acuity::tools::preprocess::PreprocessArgs),
+    /// Fly a scene's camera path under each LOD policy: frame time,
+    /// triangles, FLIP against full detail; a table, CSV, plots, images.
+    Run(acuity::tools::run::RunArgs),
+    /// The reference experiments of Reddy 1998 §5.
+    Experiment(acuity::tools::experiment::ExperimentArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s.
@@ -90,6 +99,11 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
+        Command::Run(args) => return acuity::tools::run::command(&args),
+        Command::Experiment(args) => return acuity::tools::experiment::command(&args),
+        Command::Preprocess(args) => {
+            return acuity::tools::preprocess::finish(acuity::tools::preprocess::run(&args));
+        }
         Command::Thresholds(display) => display
             .display()
             .map(|d| print!("{}", ThresholdReport::new(d))),

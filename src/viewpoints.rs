@@ -43,18 +43,20 @@ impl ViewpointLookup {
                     let rho = [(0.0, 0.0), (step, 0.0), (0.0, step), (step, step)]
                         .iter()
                         .map(|&(du, dv)| {
-                            angle(centre, face_point(face, u0 + du, v0 + dv).normalize())
+                            let corner = face_point(face, u0 + du, v0 + dv).normalize();
+                            centre.dot(corner).clamp(-1.0, 1.0).acos()
                         })
                         .fold(0.0, f64::max);
-                    let angles: Vec<f64> = directions
-                        .iter()
-                        .map(|d| angle(centre, d.as_dvec3()))
-                        .collect();
-                    let nearest = angles.iter().copied().fold(f64::INFINITY, f64::min);
+                    let dots = directions.iter().map(|d| centre.dot(d.as_dvec3()));
+                    let nearest = dots.clone().fold(-1.0, f64::max).clamp(-1.0, 1.0).acos();
                     // The margin absorbs f32 rounding of the cell index.
-                    let reach = nearest + 2.0 * rho + 1e-4;
+                    let reach = (nearest + 2.0 * rho + 1e-4).min(std::f64::consts::PI).cos();
                     candidates.clear();
-                    candidates.extend((0..directions.len()).filter(|&k| angles[k] <= reach));
+                    candidates.extend(
+                        dots.enumerate()
+                            .filter(|&(_, d)| d >= reach)
+                            .map(|(k, _)| k),
+                    );
                     let cell = &mut cells[(face * RESOLUTION + j) * RESOLUTION + i];
                     match candidates[..] {
                         [a] => *cell = [a as u16; 2],
@@ -88,10 +90,6 @@ impl ViewpointLookup {
     fn scan_fraction(&self) -> f64 {
         self.cells.iter().filter(|c| c[0] == SCAN).count() as f64 / self.cells.len() as f64
     }
-}
-
-fn angle(a: glam::DVec3, b: glam::DVec3) -> f64 {
-    a.cross(b).length().atan2(a.dot(b))
 }
 
 /// The nearest direction by largest dot product, and whether it beats the

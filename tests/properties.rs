@@ -14,6 +14,8 @@ use acuity::{
 use common::four_lod_profile;
 use glam::{DVec3, Quat, Vec3};
 use proptest::prelude::*;
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 fn any_f32() -> impl Strategy<Value = f32> {
     prop_oneof![
@@ -160,15 +162,28 @@ fn run_case(c: &Case) -> (acuity::Selection, acuity::Diagnostics) {
         velocity: c.components & 2 != 0,
         eccentricity: c.components & 4 != 0,
     };
-    let mut sel = Selector::new(
-        display,
-        SelectorSettings {
-            components,
-            cull: c.cull,
-            ..Default::default()
-        },
-    );
-    let p = sel.add_profile(&four_lod_profile(1)).unwrap();
+    // Compiling a profile builds its viewpoint lookup: do that once per
+    // settings and clone.
+    type Template = (Selector, acuity::ProfileId);
+    thread_local! {
+        static TEMPLATES: RefCell<HashMap<(u8, bool), Template>> = Default::default();
+    }
+    let (mut sel, p) = TEMPLATES.with(|t| {
+        t.borrow_mut()
+            .entry((c.components, c.cull))
+            .or_insert_with(|| {
+                let settings = SelectorSettings {
+                    components,
+                    cull: c.cull,
+                    ..Default::default()
+                };
+                let mut sel = Selector::new(display, settings);
+                let p = sel.add_profile(&four_lod_profile(1)).unwrap();
+                (sel, p)
+            })
+            .clone()
+    });
+    sel.set_display(display);
     let center = c.camera + c.offset.as_dvec3();
     let id = sel
         .add_object(ObjectDesc {

@@ -10,10 +10,22 @@
 //! - [`gaze`]: the evaluated gaze, [`gaze::Gaze::sample`].
 //! - [`placement`]: concrete object placements, including seeded copies.
 //! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
+//! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
+//!   instances) and frame rendering; [`policy`]: the LOD policies;
+//!   [`flip`]: the FLIP error; [`plot`]: PNG line plots; [`run`]: `acuity
+//!   run`; [`experiment`]: `acuity experiment`.
 
+pub mod experiment;
+pub mod flip;
+pub mod frames;
 pub mod gaze;
 pub mod path;
 pub mod placement;
+pub mod plot;
+pub mod policy;
+pub mod preprocess;
+pub mod profiles;
+pub mod run;
 pub mod scene;
 pub mod screen_size;
 pub mod thresholds;

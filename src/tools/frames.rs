@@ -1,0 +1,354 @@
+//! The scene player's world: a scene's LOD chains uploaded once to the
+//! shared renderer, their profiles (cached), every placement as a
+//! selectable instance, and one function that renders a frame with chosen
+//! LODs.
+//!
+//! Rendering is camera-relative: instance matrices are built from
+//! `position - eye` in `f64` and only then narrowed to `f32`, so scenes far
+//! from the origin render as precisely as near it.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
+use acuity_preprocess::render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer};
+use anyhow::Context;
+use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
+
+use super::placement::Placement;
+use super::preprocess::object_source;
+use super::profiles::{CacheOutcome, ensure_profile};
+use super::scene::Scene;
+use crate::{Camera, Display, Gaze, Profile, Tracker};
+
+/// Near clipping plane of the player's projection, metres.
+pub const NEAR_PLANE_M: f32 = 0.05;
+
+/// Background colour of rendered frames, sRGB8: black, as in the offline
+/// pass, so silhouettes have the contrast the profiles measured.
+pub const BACKGROUND_SRGB: [u8; 3] = [0, 0, 0];
+
+/// The analysis settings `acuity run` uses for profiles it has to make:
+/// those of `acuity preprocess` with its default arguments (512 px images
+/// from 18 viewpoints), so the two commands share cached profiles.
+pub fn default_analysis_settings() -> AnalysisSettings {
+    AnalysisSettings {
+        resolution_px: 512,
+        viewpoint_level: 1,
+        ..AnalysisSettings::default()
+    }
+}
+
+/// One object of the world: its LOD meshes on the GPU and its profile.
+#[derive(Debug, Clone)]
+pub struct WorldObject {
+    /// The scene's object name.
+    pub name: String,
+    /// The uploaded LOD meshes, finest first.
+    pub meshes: Vec<MeshId>,
+    /// Triangles per LOD, finest first.
+    pub lod_triangles: Vec<u32>,
+    /// The object's profile.
+    pub profile: Profile,
+    /// Whether the profile came from the cache.
+    pub cache: CacheOutcome,
+    /// Centre of LOD 0's bounding sphere, mesh units.
+    pub center_mesh: DVec3,
+}
+
+/// One placed instance of an object.
+#[derive(Debug, Clone, Copy)]
+pub struct Instance {
+    /// Index into [`World::objects`].
+    pub object: usize,
+    /// Index of the copy within its object (0 for a single transform).
+    pub copy: usize,
+    /// Where it stands.
+    pub placement: Placement,
+    /// Centre of its bounding sphere, world metres.
+    pub center_m: DVec3,
+    /// Radius of its bounding sphere, metres (profile radius x scale).
+    pub radius_m: f64,
+}
+
+/// Options of [`World::load`].
+#[derive(Debug, Clone)]
+pub struct LoadOptions {
+    /// Where profiles are cached; default `<scene dir>/.acuity-cache/`.
+    pub cache_dir: Option<PathBuf>,
+    /// Analysis settings for profiles that must be made.
+    pub settings: AnalysisSettings,
+    /// Print progress lines to stderr.
+    pub verbose: bool,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self {
+            cache_dir: None,
+            settings: default_analysis_settings(),
+            verbose: false,
+        }
+    }
+}
+
+/// A loaded scene, ready to play.
+pub struct World {
+    /// The scene.
+    pub scene: Scene,
+    /// The shared renderer (every LOD mesh uploaded once).
+    pub renderer: Renderer,
+    /// The objects, in scene order.
+    pub objects: Vec<WorldObject>,
+    /// Every instance, objects in scene order and copies in index order.
+    pub instances: Vec<Instance>,
+    /// The runtime's view of the display.
+    pub display: Display,
+    /// Seconds spent making or loading profiles.
+    pub profile_time_s: f64,
+}
+
+fn instances_of(scene: &Scene, objects: &[WorldObject]) -> Vec<Instance> {
+    let mut instances = Vec::with_capacity(scene.instance_count());
+    for (object, (spec, o)) in scene.objects.iter().zip(objects).enumerate() {
+        for (copy, placement) in spec.placements().into_iter().enumerate() {
+            instances.push(Instance {
+                object,
+                copy,
+                placement,
+                center_m: placement.transform_point(o.center_mesh),
+                radius_m: f64::from(o.profile.bounding_radius) * placement.scale,
+            });
+        }
+    }
+    instances
+}
+
+/// The camera and gaze of one frame.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameView {
+    /// Frame index.
+    pub index: u32,
+    /// Simulated time, seconds.
+    pub t_s: f64,
+    /// Eye position, world metres.
+    pub eye_m: DVec3,
+    /// Camera orientation, camera-to-world.
+    pub orientation: DQuat,
+    /// Gaze direction in camera space (unit, -Z is the display centre).
+    pub gaze_camera: DVec3,
+}
+
+impl World {
+    /// Loads a scene's LOD chains, uploads them to a new renderer and gets
+    /// every profile (cached under `options.cache_dir`). Errors name the
+    /// object at fault.
+    pub fn load(scene: Scene, options: &LoadOptions) -> anyhow::Result<World> {
+        let renderer = Renderer::new(&Default::default()).context("starting the renderer")?;
+        Self::load_with(scene, renderer, options)
+    }
+
+    /// As [`World::load`], with a renderer the caller made.
+    pub fn load_with(
+        scene: Scene,
+        renderer: Renderer,
+        options: &LoadOptions,
+    ) -> anyhow::Result<World> {
+        let cache_dir = options.cache_dir.clone().unwrap_or_else(|| {
+            scene
+                .source_path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(".acuity-cache")
+        });
+        let [w, h] = scene.display.resolution_px;
+        let [fh, fv] = scene.display.fov_deg;
+        let display = Display::new([w, h], [fh as f32, fv as f32])
+            .with_context(|| format!("{}: display", scene.source_path.display()))?;
+        let started = Instant::now();
+        let mut objects = Vec::with_capacity(scene.objects.len());
+        for spec in &scene.objects {
+            let what = || format!("object `{}`", spec.name);
+            let source = object_source(&spec.name, &spec.source)
+                .map_err(|reason| anyhow::anyhow!("{}: {reason}", what()))?;
+            let (lods, warnings) = source
+                .load_lods()
+                .with_context(|| format!("{}: loading its LODs", what()))?;
+            if options.verbose {
+                for w in warnings {
+                    eprintln!("warning: object `{}`: {w}", spec.name);
+                }
+            }
+            let meshes = lods
+                .iter()
+                .map(|m| renderer.upload_mesh(m))
+                .collect::<Result<Vec<_>, _>>()
+                .with_context(|| format!("{}: uploading its LODs", what()))?;
+            let lod_triangles = lods.iter().map(|m| m.triangle_count() as u32).collect();
+            let (c, _) = lods[0].bounding_sphere();
+            let (profile, cache) = ensure_profile(
+                &renderer,
+                &source,
+                &options.settings,
+                &cache_dir,
+                &RunOptions::default(),
+            )
+            .with_context(|| format!("{}: making its profile", what()))?;
+            if options.verbose {
+                eprintln!(
+                    "object `{}`: {} LODs, profile {}",
+                    spec.name,
+                    profile.lod_count(),
+                    match cache {
+                        CacheOutcome::Cached => "cached",
+                        CacheOutcome::Analysed => "analysed",
+                    }
+                );
+            }
+            objects.push(WorldObject {
+                name: spec.name.clone(),
+                meshes,
+                lod_triangles,
+                profile,
+                cache,
+                center_mesh: DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64),
+            });
+        }
+        let instances = instances_of(&scene, &objects);
+        Ok(World {
+            scene,
+            renderer,
+            objects,
+            instances,
+            display,
+            profile_time_s: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Moves every object to the placements of `scene`, which must have the
+    /// same objects (names and LOD sources) as the loaded one: new copy
+    /// counts and seeds without loading or analysing anything again.
+    pub fn replace_placements(&mut self, scene: Scene) -> anyhow::Result<()> {
+        let same = scene.objects.len() == self.scene.objects.len()
+            && scene
+                .objects
+                .iter()
+                .zip(&self.scene.objects)
+                .all(|(a, b)| a.name == b.name && a.source == b.source);
+        if !same {
+            anyhow::bail!("replace_placements: the scene's objects differ from the loaded ones");
+        }
+        self.instances = instances_of(&scene, &self.objects);
+        self.scene = scene;
+        Ok(())
+    }
+
+    /// The instance the gaze tracks, if the scene's gaze tracks one.
+    pub fn tracked_instance(&self) -> Option<usize> {
+        use super::gaze::GazeMode;
+        let GazeMode::Track { object, copy } = &self.scene.gaze.mode else {
+            return None;
+        };
+        let o = self.objects.iter().position(|o| &o.name == object)?;
+        self.instances
+            .iter()
+            .position(|i| i.object == o && i.copy == *copy as usize)
+    }
+
+    /// The runtime's tracker for the scene's gaze: its margin, deg.
+    pub fn tracker(&self) -> Tracker {
+        use super::gaze::Tracker as T;
+        let g = &self.scene.gaze;
+        let margin = g.tracker_error_deg as f32;
+        match g.tracker {
+            _ if margin <= 0.0 => Tracker::None,
+            T::Head if margin == Tracker::HEAD_MARGIN_DEG => Tracker::Head,
+            _ => Tracker::Eye { error_deg: margin },
+        }
+    }
+
+    /// Camera and gaze at simulated time `t_s` (frame `index`).
+    pub fn view_at(&self, index: u32, t_s: f64, gaze: &super::gaze::Gaze) -> FrameView {
+        let (eye_m, orientation) = self.scene.camera.sample(t_s);
+        FrameView {
+            index,
+            t_s,
+            eye_m,
+            orientation,
+            gaze_camera: gaze.sample(t_s),
+        }
+    }
+
+    /// The runtime camera of a view.
+    pub fn camera(view: &FrameView) -> Camera {
+        Camera {
+            position: view.eye_m,
+            orientation: view.orientation.as_quat(),
+        }
+    }
+
+    /// The runtime gaze of a view (pursuing `pursued`, if any).
+    pub fn gaze(&self, view: &FrameView, pursued: Option<crate::ObjectId>) -> Gaze {
+        Gaze {
+            direction_camera: view.gaze_camera.as_vec3(),
+            tracker: self.tracker(),
+            pursued,
+        }
+    }
+
+    /// World to clip (wgpu conventions) for a camera at the origin with the
+    /// view's orientation: the full field of view of the display maps to
+    /// the image, with an infinite far plane.
+    pub fn view_proj(&self, view: &FrameView) -> Mat4 {
+        let [fh, fv] = self.scene.display.fov_deg;
+        let sx = 1.0 / (0.5 * fh).to_radians().tan() as f32;
+        let sy = 1.0 / (0.5 * fv).to_radians().tan() as f32;
+        // Right-handed, looking along -Z, depth 0 at the near plane and 1
+        // at infinity (glam's `perspective_infinite_rh` with separate x and
+        // y scales, so non-square pixels keep the display's field of view).
+        let proj = Mat4::from_cols(
+            Vec4::new(sx, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, sy, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, -1.0, -1.0),
+            Vec4::new(0.0, 0.0, -NEAR_PLANE_M, 0.0),
+        );
+        let view_rot = Mat4::from_quat(view.orientation.inverse().as_quat());
+        proj * view_rot
+    }
+
+    /// Renders a view with `lods[i]` the LOD of instance `i` (`None`: not
+    /// drawn). Waits for the GPU. Instances of one (mesh, LOD) are drawn
+    /// with one instanced draw call.
+    pub fn render(&self, view: &FrameView, lods: &[Option<usize>]) -> anyhow::Result<RenderOutput> {
+        let mut draws: Vec<(MeshId, Mat4)> = Vec::with_capacity(lods.len());
+        for (inst, lod) in self.instances.iter().zip(lods) {
+            let Some(lod) = *lod else { continue };
+            let o = &self.objects[inst.object];
+            let Some(&mesh) = o.meshes.get(lod) else {
+                anyhow::bail!("object `{}` has no LOD {lod}", o.name);
+            };
+            let p = &inst.placement;
+            let m = DMat4::from_scale_rotation_translation(
+                DVec3::splat(p.scale),
+                p.rotation,
+                p.position_m - view.eye_m,
+            );
+            draws.push((mesh, m.as_mat4()));
+        }
+        let [width, height] = self.scene.display.resolution_px;
+        let out = self.renderer.render(&RenderRequest {
+            width,
+            height,
+            view_proj: self.view_proj(view),
+            instances: &draws,
+            lighting: Lighting::default(),
+            background_srgb: BACKGROUND_SRGB,
+        })?;
+        Ok(out)
+    }
+
+    /// Pixels per degree of the display, for FLIP.
+    pub fn pixels_per_degree(&self) -> f32 {
+        self.display.pixels_per_degree()
+    }
+}

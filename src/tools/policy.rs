@@ -1,0 +1,268 @@
+//! The LOD policies `acuity run` compares (REFERENCE §6–§7, issue 4), each
+//! over the same camera path: full detail, screen-size thresholds, acuity
+//! with a set of model components, and acuity under the reactive or the
+//! predictive fixed-frame-rate scheduler.
+//!
+//! Every policy culls the same objects: those the runtime's frustum test
+//! (a [`Selector`] with culling on) puts outside the view. So triangle and
+//! frame-time differences come from LOD choices alone.
+
+use super::frames::{FrameView, World};
+use super::scene::Policy;
+use super::screen_size::{ScreenSizeChoice, ScreenSizeLod, relative_height};
+use crate::{
+    Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler, ReactiveSettings,
+    Selector, SelectorSettings,
+};
+
+/// The model components a policy selects with; `None` for policies that do
+/// not use the acuity model.
+pub fn components(policy: Policy) -> Option<Components> {
+    let c = |size, eccentricity, velocity| {
+        Some(Components {
+            size,
+            velocity,
+            eccentricity,
+        })
+    };
+    match policy {
+        Policy::Full | Policy::ScreenSize => None,
+        Policy::AcuitySize => c(true, false, false),
+        Policy::AcuitySizeEcc => c(true, true, false),
+        Policy::AcuitySizeVel => c(true, false, true),
+        Policy::AcuityEccVel => c(false, true, true),
+        Policy::AcuityAll | Policy::AcuityReactive | Policy::AcuityPredictive => {
+            c(true, true, true)
+        }
+    }
+}
+
+/// What a policy chose for one frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Choice {
+    /// The global scale factor `s` used (1 for policies without one).
+    pub scale: f32,
+    /// Triangle budget of the predictive scheduler, if it set one.
+    pub triangle_budget: Option<u64>,
+}
+
+/// A policy's state over a run: a selector (with velocity history) and,
+/// for the schedulers, their controller.
+pub struct PolicyRunner {
+    policy: Policy,
+    selector: Selector,
+    ids: Vec<ObjectId>,
+    pursued: Option<ObjectId>,
+    screen: Vec<ScreenSizeLod>,
+    scale: f32,
+    reactive: Option<ReactiveScheduler>,
+    cost: Option<CostModel>,
+    target_frame_s: f32,
+}
+
+impl PolicyRunner {
+    /// A fresh runner for `policy` over `world`'s instances. `cost` is the
+    /// predictive scheduler's starting cost model (ignored by the other
+    /// policies). Uses the scene's `scale_factor`, `screen_size_bias` and
+    /// `target_hz`.
+    pub fn new(
+        world: &World,
+        policy: Policy,
+        screen_size_bias: f64,
+        cost: CostModel,
+    ) -> anyhow::Result<PolicyRunner> {
+        let settings = SelectorSettings {
+            components: components(policy).unwrap_or(Components::ALL),
+            ..SelectorSettings::default()
+        };
+        let mut selector = Selector::new(world.display, settings);
+        let profiles = world
+            .objects
+            .iter()
+            .map(|o| {
+                selector
+                    .add_profile(&o.profile)
+                    .map_err(|e| anyhow::anyhow!("object `{}`: profile: {e}", o.name))
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let ids = world
+            .instances
+            .iter()
+            .map(|i| {
+                selector
+                    .add_object(ObjectDesc {
+                        center: i.center_m,
+                        radius: i.radius_m as f32,
+                        rotation: i.placement.rotation.as_quat(),
+                        profile: profiles[i.object],
+                    })
+                    .map_err(|e| {
+                        anyhow::anyhow!(
+                            "object `{}` copy {}: {e}",
+                            world.objects[i.object].name,
+                            i.copy
+                        )
+                    })
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let screen = world
+            .objects
+            .iter()
+            .map(|o| {
+                ScreenSizeLod::with_defaults(o.meshes.len())
+                    .with_bias(screen_size_bias)
+                    .ok_or_else(|| {
+                        anyhow::anyhow!("screen-size bias {screen_size_bias} is not > 0")
+                    })
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let run = &world.scene.run;
+        let target_hz = run.target_hz as f32;
+        let scale = (run.scale_factor as f32).clamp(f32::MIN_POSITIVE, 1.0);
+        let reactive = (policy == Policy::AcuityReactive)
+            .then(|| ReactiveScheduler::new(ReactiveSettings::for_rate_hz(target_hz)));
+        Ok(PolicyRunner {
+            policy,
+            pursued: world.tracked_instance().map(|i| ids[i]),
+            selector,
+            ids,
+            screen,
+            scale,
+            reactive,
+            cost: (policy == Policy::AcuityPredictive).then_some(cost),
+            target_frame_s: 1.0 / target_hz,
+        })
+    }
+
+    /// Sets the global scale factor `s` (clamped into (0, 1]); for the
+    /// reactive scheduler it is a cap.
+    pub fn set_scale(&mut self, scale: f32) {
+        self.scale = if scale > 0.0 { scale.min(1.0) } else { 1.0 };
+    }
+
+    /// The policy.
+    pub fn policy(&self) -> Policy {
+        self.policy
+    }
+
+    /// Chooses every instance's LOD for a view into `lods` (`None`: culled).
+    pub fn choose(
+        &mut self,
+        world: &World,
+        view: &FrameView,
+        dt_s: f32,
+        lods: &mut Vec<Option<usize>>,
+    ) -> anyhow::Result<Choice> {
+        // The scene's s caps what the reactive scheduler may use.
+        let scale = match &self.reactive {
+            Some(r) => r.scale().min(self.scale),
+            None => self.scale,
+        };
+        let frame = FrameInput {
+            camera: World::camera(view),
+            gaze: world.gaze(view, self.pursued),
+            dt_s,
+            scale,
+        };
+        let mut choice = Choice {
+            scale,
+            triangle_budget: None,
+        };
+        match &self.cost {
+            Some(cost) => {
+                let budget = cost.triangle_budget(self.target_frame_s);
+                let out = self.selector.select_within_budget(&frame, budget)?;
+                choice = Choice {
+                    scale: out.scale,
+                    triangle_budget: Some(budget),
+                };
+            }
+            None => self.selector.select(&frame)?,
+        }
+        lods.clear();
+        let fov_v = world.scene.display.fov_deg[1];
+        for (inst, id) in world.instances.iter().zip(&self.ids) {
+            let sel = self.selector.selection(*id);
+            let lod = match self.policy {
+                _ if sel.is_culled() => None,
+                Policy::Full => Some(0),
+                Policy::ScreenSize => {
+                    let d = (inst.center_m - view.eye_m).length();
+                    let h = relative_height(inst.radius_m, d, fov_v);
+                    match self.screen[inst.object].select_relative_height(h) {
+                        ScreenSizeChoice::Lod(l) => Some(l),
+                        ScreenSizeChoice::Culled => None,
+                    }
+                }
+                _ => sel.lod(),
+            };
+            lods.push(lod);
+        }
+        Ok(choice)
+    }
+
+    /// Feeds back the measured frame (seconds, triangles drawn) to the
+    /// scheduler, if the policy has one.
+    pub fn observe(&mut self, frame_time_s: f64, triangles: u64) {
+        if let Some(r) = &mut self.reactive {
+            r.update(frame_time_s as f32);
+        }
+        if let Some(c) = &mut self.cost {
+            c.observe(frame_time_s as f32, triangles);
+        }
+    }
+}
+
+/// A cost model fitted by least squares to measured `(frame s, triangles)`
+/// pairs: `frame = fixed + per_triangle * triangles`, with both terms kept
+/// non-negative. With fewer than two distinct triangle counts, a guess of
+/// no fixed cost and the mean time per triangle (or 10 ns per triangle
+/// with no data).
+pub fn fit_cost_model(samples: &[(f64, u64)]) -> CostModel {
+    let n = samples.len() as f64;
+    if samples.is_empty() {
+        return CostModel::new(0.0, 1e-8);
+    }
+    let mx = samples.iter().map(|s| s.1 as f64).sum::<f64>() / n;
+    let my = samples.iter().map(|s| s.0).sum::<f64>() / n;
+    let sxx: f64 = samples.iter().map(|s| (s.1 as f64 - mx).powi(2)).sum();
+    let sxy: f64 = samples.iter().map(|s| (s.1 as f64 - mx) * (s.0 - my)).sum();
+    if sxx > 0.0 {
+        let slope = (sxy / sxx).max(1e-12);
+        let fixed = (my - slope * mx).max(0.0);
+        CostModel::new(fixed as f32, slope as f32)
+    } else if mx > 0.0 {
+        CostModel::new(0.0, (my / mx) as f32)
+    } else {
+        CostModel::new(my as f32, 1e-8)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn components_match_policy_names() {
+        assert_eq!(components(Policy::Full), None);
+        assert_eq!(components(Policy::AcuityAll), Some(Components::ALL));
+        let ev = components(Policy::AcuityEccVel).unwrap();
+        assert!(!ev.size && ev.eccentricity && ev.velocity);
+        let s = components(Policy::AcuitySize).unwrap();
+        assert!(s.size && !s.eccentricity && !s.velocity);
+    }
+
+    #[test]
+    fn cost_fit_recovers_a_line() {
+        let samples: Vec<(f64, u64)> = (1..10u64)
+            .map(|k| (0.002 + 1e-7 * (k * 10_000) as f64, k * 10_000))
+            .collect();
+        let m = fit_cost_model(&samples);
+        assert!((m.fixed_s - 0.002).abs() < 1e-5, "{m:?}");
+        assert!((m.per_triangle_s - 1e-7).abs() < 1e-9, "{m:?}");
+        // Degenerate input gives a usable model, not NaN.
+        let m = fit_cost_model(&[(0.01, 0), (0.01, 0)]);
+        assert!(m.per_triangle_s.is_finite() && m.fixed_s.is_finite());
+        assert!(fit_cost_model(&[]).per_triangle_s > 0.0);
+    }
+}

@@ -1,0 +1,564 @@
+//! `acuity preprocess`: the offline pass on a scene file or one OBJ mesh,
+//! writing one runtime profile per object (REFERENCE §5; issue 3).
+//!
+//! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
+//!   objects are analysed from their files, `mesh` + `generate_triangles`
+//!   objects from LODs simplified from the mesh, and `procedural` objects
+//!   from the offline pass's procedural generator where it has one for the
+//!   kind (see [`object_source`]); a kind without a generator is reported
+//!   and skipped. Or one OBJ file (`.obj`): its LODs are generated at
+//!   `--triangles` (default the paper's 3928/834/254/76), and the object is
+//!   named after the file stem.
+//! - **Cache.** Profiles go to `--out` (default `<dir of PATH>/.acuity-cache/`)
+//!   as `<object>.acp` ([`profiles::cache_path`]). An object whose input
+//!   files, generation parameters and settings hash as recorded in its
+//!   profile is not rendered again ([`profiles::cached_profile`]); the
+//!   command says `cached` for it. `--force` and `--inspect` analyse every
+//!   object regardless.
+//! - **Rendering.** One [`Renderer`] (one device) for all objects, created
+//!   only when some object needs analysing, so a fully cached run never
+//!   opens a device. Objects are analysed one after the other, each in
+//!   parallel over its viewpoints (`--jobs` sets the rayon pool size).
+//! - **Errors.** A failing object is reported on stderr with the file and
+//!   line its error carries, and the others are still analysed. Exit code:
+//!   0 when every object has a profile (or was skipped for lack of a
+//!   generator), 1 when any object failed or no renderer could be made,
+//!   2 for bad arguments (including a PATH that is not a readable scene or
+//!   OBJ file, or a scene file that does not parse).
+//! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
+//!   median over viewpoints of each transition's lowest unique frequency
+//!   (c/diam; a viewpoint where two LODs look the same counts as infinite,
+//!   shown as `none`), cached/analysed, seconds.
+
+use std::fmt::Write as _;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use acuity_preprocess::lods::{self, ProceduralParams};
+use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
+use acuity_preprocess::render::{Renderer, RendererOptions};
+use acuity_preprocess::{segment, views};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::profiles;
+use super::scene::{MeshSource, ProceduralKind, Scene};
+use crate::Profile;
+
+/// Seed of the procedural generator for scene objects of kind `rock` (the
+/// scene format has no seed for the shape; this one is fixed so profiles
+/// are reproducible).
+pub const PROCEDURAL_SEED: u32 = 1;
+
+/// Arguments of `acuity preprocess`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PreprocessArgs {
+    /// A scene file (.toml: every object in it) or one OBJ mesh (.obj: its
+    /// LODs are generated with --triangles).
+    pub path: PathBuf,
+    /// LOD triangle targets for a single OBJ, finest first, strictly
+    /// decreasing [default: 3928,834,254,76].
+    #[arg(long, value_delimiter = ',', num_args = 1..)]
+    pub triangles: Option<Vec<u32>>,
+    /// Worker threads for the analysis (rayon pool size) [default: one per
+    /// CPU core].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub jobs: Option<u32>,
+    /// Square rendering size in pixels (16..=8192).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub resolution: u32,
+    /// View-sphere subdivision level: 0 -> 6 viewpoints, 1 -> 18, 2 -> 66,
+    /// 3 -> 258, ... (0..=6).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub viewpoints: u32,
+    /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
+    /// and changed pixels.
+    #[arg(long, default_value_t = segment::DEFAULT_THRESHOLD_DELTA_E, value_parser = parse_threshold)]
+    pub threshold: f32,
+    /// Folder for the profiles (<object>.acp) [default: <folder of
+    /// PATH>/.acuity-cache].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write every rendered view and every transition's unique features as
+    /// PNGs under this folder (analyses cached objects again).
+    #[arg(long)]
+    pub inspect: Option<PathBuf>,
+    /// Also write each profile as JSON (<object>.json beside <object>.acp).
+    #[arg(long)]
+    pub json: bool,
+    /// Analyse every object even when its cached profile is up to date.
+    #[arg(long)]
+    pub force: bool,
+}
+
+fn parse_threshold(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("`{text}` is not a positive number")),
+    }
+}
+
+/// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
+#[derive(Debug, thiserror::Error)]
+pub enum PreprocessError {
+    /// The arguments are unusable (exit code 2).
+    #[error("{0}")]
+    Usage(String),
+    /// Some objects failed; each was reported as it failed (exit code 1).
+    #[error("{failed} of {total} objects failed")]
+    ObjectsFailed {
+        /// Objects that failed.
+        failed: usize,
+        /// Objects in the input.
+        total: usize,
+    },
+}
+
+/// Prints `result`'s error (if any) on stderr and gives the exit code: 0 on
+/// success, 2 for [`PreprocessError::Usage`], 1 otherwise.
+pub fn finish(result: anyhow::Result<()>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            match e.downcast_ref::<PreprocessError>() {
+                Some(PreprocessError::Usage(_)) => ExitCode::from(2),
+                _ => ExitCode::from(1),
+            }
+        }
+    }
+}
+
+/// One object to preprocess: its source, or why it cannot be analysed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Job {
+    /// The object's name.
+    pub name: String,
+    /// Its LOD source, or the reason it is skipped.
+    pub source: Result<ObjectSource, String>,
+}
+
+/// The offline pass's source for a scene object: files and generated LODs
+/// map one to one; of the procedural kinds only `rock` has a generator
+/// (the offline pass's bumpy, colour-banded torus with bumps at three
+/// scales, [`lods::procedural_object`], seed [`PROCEDURAL_SEED`]), so
+/// `sphere` and `torus` give `Err` with the reason.
+pub fn object_source(name: &str, source: &MeshSource) -> Result<ObjectSource, String> {
+    match source {
+        MeshSource::Lods(paths) => Ok(ObjectSource::Files {
+            name: name.into(),
+            lod_paths: paths.clone(),
+        }),
+        MeshSource::Generated { mesh, triangles } => Ok(ObjectSource::Generated {
+            name: name.into(),
+            path: mesh.clone(),
+            triangle_targets: triangles.clone(),
+        }),
+        MeshSource::Procedural { kind, triangles } => match kind {
+            ProceduralKind::Rock => Ok(ObjectSource::Procedural {
+                name: name.into(),
+                params: ProceduralParams {
+                    triangles: triangles.first().copied().unwrap_or(0),
+                    seed: PROCEDURAL_SEED,
+                },
+                triangle_targets: triangles.clone(),
+            }),
+            ProceduralKind::Sphere | ProceduralKind::Torus => Err(format!(
+                "procedural kind `{}` has no generator in the offline pass \
+                 (acuity_preprocess::lods has one procedural object, used for `rock`); not analysed",
+                match kind {
+                    ProceduralKind::Sphere => "sphere",
+                    _ => "torus",
+                }
+            )),
+        },
+    }
+}
+
+/// The objects named by `args.path` and the default profile folder.
+fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf), PreprocessError> {
+    let path = &args.path;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let default_out = path.parent().unwrap_or(Path::new("")).join(".acuity-cache");
+    match ext.as_deref() {
+        Some("toml") => {
+            if args.triangles.is_some() {
+                return Err(PreprocessError::Usage(
+                    "--triangles applies to a single .obj; a scene gives each object's LODs".into(),
+                ));
+            }
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                PreprocessError::Usage(format!("{}: cannot read scene file: {e}", path.display()))
+            })?;
+            // `parse`, not `load`: a missing mesh file is that object's
+            // error, not the whole scene's.
+            let scene =
+                Scene::parse(&text, path).map_err(|e| PreprocessError::Usage(e.to_string()))?;
+            let jobs = scene
+                .objects
+                .iter()
+                .map(|o| Job {
+                    name: o.name.clone(),
+                    source: object_source(&o.name, &o.source),
+                })
+                .collect();
+            Ok((jobs, default_out))
+        }
+        Some("obj") => {
+            if !path.is_file() {
+                return Err(PreprocessError::Usage(format!(
+                    "{}: no such file",
+                    path.display()
+                )));
+            }
+            let targets = args
+                .triangles
+                .clone()
+                .unwrap_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec());
+            if targets.len() < 2 || targets.windows(2).any(|w| w[1] >= w[0]) || targets[0] == 0 {
+                return Err(PreprocessError::Usage(format!(
+                    "--triangles {targets:?}: give at least 2 positive targets, strictly decreasing"
+                )));
+            }
+            let name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "object".into());
+            let job = Job {
+                name: name.clone(),
+                source: Ok(ObjectSource::Generated {
+                    name,
+                    path: path.clone(),
+                    triangle_targets: targets,
+                }),
+            };
+            Ok((vec![job], default_out))
+        }
+        _ => Err(PreprocessError::Usage(format!(
+            "{}: expected a scene file (.toml) or an OBJ mesh (.obj)",
+            path.display()
+        ))),
+    }
+}
+
+/// What happened to one object.
+#[derive(Debug)]
+enum Outcome {
+    Cached(Profile),
+    Analysed(Profile),
+    Skipped(String),
+    Failed(String),
+}
+
+/// One row of the final table.
+#[derive(Debug)]
+struct Row {
+    name: String,
+    outcome: Outcome,
+    seconds: f64,
+}
+
+/// Runs `acuity preprocess`; see the module docs. Per-object results and
+/// the table go to stdout, errors and the progress bar to stderr.
+pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
+    let settings = AnalysisSettings {
+        resolution_px: args.resolution,
+        viewpoint_level: args.viewpoints,
+        threshold_delta_e: args.threshold,
+        ..AnalysisSettings::default()
+    };
+    settings
+        .validate()
+        .map_err(|e| PreprocessError::Usage(e.to_string()))?;
+    let (jobs, default_out) = jobs_for(args)?;
+    let out_dir = args.out.clone().unwrap_or(default_out);
+    // Distinct names can share a file name once sanitised ("a b", "a_b").
+    let mut seen = std::collections::HashMap::new();
+    for j in &jobs {
+        if let Ok(src) = &j.source
+            && let Some(other) = seen.insert(profiles::cache_path(&out_dir, src), &j.name)
+        {
+            return Err(PreprocessError::Usage(format!(
+                "objects `{other}` and `{}` would share the profile file {}; rename one",
+                j.name,
+                profiles::cache_path(&out_dir, src).display()
+            ))
+            .into());
+        }
+    }
+    let rows = match args.jobs {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n as usize)
+            .build()?
+            .install(|| process(args, &settings, &jobs, &out_dir)),
+        None => process(args, &settings, &jobs, &out_dir),
+    };
+    print!("{}", table(&rows));
+    let failed = rows
+        .iter()
+        .filter(|r| matches!(r.outcome, Outcome::Failed(_)))
+        .count();
+    if failed > 0 {
+        return Err(PreprocessError::ObjectsFailed {
+            failed,
+            total: rows.len(),
+        }
+        .into());
+    }
+    Ok(())
+}
+
+fn process(
+    args: &PreprocessArgs,
+    settings: &AnalysisSettings,
+    jobs: &[Job],
+    out_dir: &Path,
+) -> Vec<Row> {
+    let analyse_all = args.force || args.inspect.is_some();
+    // First pass, hashing only: which objects are cached.
+    let mut rows: Vec<Option<Row>> = Vec::with_capacity(jobs.len());
+    let mut to_analyse = Vec::new();
+    for (i, j) in jobs.iter().enumerate() {
+        let t0 = Instant::now();
+        let row = |outcome| {
+            Some(Row {
+                name: j.name.clone(),
+                outcome,
+                seconds: t0.elapsed().as_secs_f64(),
+            })
+        };
+        match &j.source {
+            Err(reason) => rows.push(row(Outcome::Skipped(reason.clone()))),
+            Ok(_) if analyse_all => {
+                rows.push(None);
+                to_analyse.push(i);
+            }
+            Ok(src) => match profiles::cached_profile(src, settings, out_dir) {
+                Ok(Some(p)) => rows.push(row(Outcome::Cached(p))),
+                Ok(None) => {
+                    rows.push(None);
+                    to_analyse.push(i);
+                }
+                Err(e) => rows.push(row(Outcome::Failed(format!("{e:#}")))),
+            },
+        }
+    }
+
+    let views_per_object = views::viewpoint_count(settings.viewpoint_level);
+    let bar = progress_bar((to_analyse.len() * views_per_object) as u64);
+    let shown = AtomicBool::new(false);
+    let tty = std::io::stderr().is_terminal();
+    let started = Instant::now();
+    let on_progress = |_: &Progress<'_>| {
+        // Appear only for work that takes more than a second.
+        if tty
+            && started.elapsed() > Duration::from_secs(1)
+            && shown
+                .compare_exchange(false, true, Ordering::Relaxed, Ordering::Relaxed)
+                .is_ok()
+        {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        bar.inc(1);
+    };
+    let run = RunOptions {
+        inspect_dir: args.inspect.as_deref(),
+        progress: Some(&on_progress),
+    };
+
+    // Report the first pass, in input order.
+    for (j, r) in jobs.iter().zip(&rows) {
+        match r.as_ref().map(|r| &r.outcome) {
+            Some(Outcome::Cached(_)) => {
+                println!("{}: cached (inputs unchanged, nothing rendered)", j.name)
+            }
+            Some(Outcome::Skipped(why)) => println!("{}: skipped: {why}", j.name),
+            Some(Outcome::Failed(e)) => eprintln!("error: object `{}`: {e}", j.name),
+            _ => {}
+        }
+    }
+
+    let mut renderer: Option<Result<Renderer, String>> = None;
+    for &i in &to_analyse {
+        let j = &jobs[i];
+        let Ok(src) = &j.source else { continue };
+        let t0 = Instant::now();
+        bar.set_message(j.name.clone());
+        let r = renderer.get_or_insert_with(|| {
+            let r = Renderer::new(&RendererOptions::default()).map_err(|e| e.to_string());
+            if let Ok(r) = &r {
+                bar.suspend(|| eprintln!("renderer: {}", r.adapter_info()));
+            }
+            r
+        });
+        let outcome = match r {
+            Err(e) => Outcome::Failed(format!("no renderer: {e}")),
+            Ok(r) => match profiles::analyse_to_cache(r, src, settings, out_dir, &run) {
+                Ok((p, warnings)) => {
+                    bar.suspend(|| {
+                        for w in warnings {
+                            eprintln!("warning: object `{}`: {w}", j.name);
+                        }
+                    });
+                    Outcome::Analysed(p)
+                }
+                Err(e) => Outcome::Failed(format!("{e:#}")),
+            },
+        };
+        let seconds = t0.elapsed().as_secs_f64();
+        bar.suspend(|| match &outcome {
+            Outcome::Analysed(p) => println!(
+                "{}: analysed ({} viewpoints, {} LODs, {seconds:.2} s)",
+                j.name,
+                p.viewpoints.len(),
+                p.lod_count()
+            ),
+            Outcome::Failed(e) => eprintln!("error: object `{}`: {e}", j.name),
+            _ => {}
+        });
+        rows[i] = Some(Row {
+            name: j.name.clone(),
+            outcome,
+            seconds,
+        });
+    }
+    bar.finish_and_clear();
+
+    let mut rows: Vec<Row> = rows.into_iter().flatten().collect();
+    if args.json {
+        for (row, j) in rows.iter_mut().zip(jobs) {
+            let (Outcome::Cached(p) | Outcome::Analysed(p)) = &row.outcome else {
+                continue;
+            };
+            let Ok(src) = &j.source else { continue };
+            let path = profiles::cache_path(out_dir, src).with_extension("json");
+            if let Err(e) = write_json_if_changed(p, &path) {
+                eprintln!("error: object `{}`: {e:#}", j.name);
+                row.outcome = Outcome::Failed(format!("{e:#}"));
+            }
+        }
+    }
+    rows
+}
+
+/// Writes `profile` as JSON to `path` unless the file already holds exactly
+/// those bytes (so a cached run leaves it untouched).
+fn write_json_if_changed(profile: &Profile, path: &Path) -> anyhow::Result<()> {
+    let bytes = crate::profile::json::encode(profile)?;
+    if std::fs::read(path).is_ok_and(|old| old == bytes) {
+        return Ok(());
+    }
+    profile.save(path)?;
+    Ok(())
+}
+
+fn progress_bar(total: u64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden());
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:30} {pos}/{len} views  {elapsed_precise}  {msg}")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Median over viewpoints of each transition's lowest unique frequency,
+/// c/diam; a viewpoint without unique features counts as infinite.
+pub fn median_lowest_cdiam(profile: &Profile) -> Vec<f32> {
+    let nt = profile.transitions_per_view();
+    (0..nt)
+        .map(|t| {
+            let mut v: Vec<f32> = (0..profile.viewpoints.len())
+                .map(|view| profile.view_transitions(view)[t].lowest_cdiam)
+                .map(|f| f.unwrap_or(f32::INFINITY))
+                .collect();
+            v.sort_by(f32::total_cmp);
+            match v.len() {
+                0 => f32::INFINITY,
+                n if n % 2 == 1 => v[n / 2],
+                n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+            }
+        })
+        .collect()
+}
+
+fn table(rows: &[Row]) -> String {
+    let header = [
+        "object",
+        "LODs (triangles)",
+        "viewpoints",
+        "lowest c/diam per transition (median)",
+        "result",
+        "s",
+    ];
+    let cells: Vec<[String; 6]> = rows
+        .iter()
+        .map(|r| {
+            let (profile, result) = match &r.outcome {
+                Outcome::Cached(p) => (Some(p), "cached".to_string()),
+                Outcome::Analysed(p) => (Some(p), "analysed".to_string()),
+                Outcome::Skipped(_) => (None, "skipped".to_string()),
+                Outcome::Failed(_) => (None, "FAILED".to_string()),
+            };
+            let dash = || "-".to_string();
+            let lods = profile.map_or_else(dash, |p| {
+                p.lod_triangles
+                    .iter()
+                    .map(u32::to_string)
+                    .collect::<Vec<_>>()
+                    .join("/")
+            });
+            let views = profile.map_or_else(dash, |p| p.viewpoints.len().to_string());
+            let freqs = profile.map_or_else(dash, |p| {
+                median_lowest_cdiam(p)
+                    .iter()
+                    .map(|f| {
+                        if f.is_finite() {
+                            format!("{f:.1}")
+                        } else {
+                            "none".into()
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            });
+            [
+                r.name.clone(),
+                lods,
+                views,
+                freqs,
+                result,
+                format!("{:.2}", r.seconds),
+            ]
+        })
+        .collect();
+    let mut width = header.map(|h| h.chars().count());
+    for c in &cells {
+        for (w, s) in width.iter_mut().zip(c) {
+            *w = (*w).max(s.chars().count());
+        }
+    }
+    let mut out = String::new();
+    let mut line = |cols: &[&str]| {
+        let mut l = String::new();
+        for (i, (c, w)) in cols.iter().zip(width).enumerate() {
+            if i > 0 {
+                l.push_str("  ");
+            }
+            let _ = write!(l, "{c:<w$}");
+        }
+        let _ = writeln!(out, "{}", l.trim_end());
+    };
+    line(&header);
+    let rule: Vec<String> = width.iter().map(|&w| "-".repeat(w)).collect();
+    line(&rule.iter().map(String::as_str).collect::<Vec<_>>());
+    for c in &cells {
+        line(&c.iter().map(String::as_str).collect::<Vec<_>>());
+    }
+    out
+}

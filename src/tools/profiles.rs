@@ -1,0 +1,158 @@
+//! From the offline pass's plain data to runtime profiles, with a cache:
+//! an object whose inputs and settings hash as before is not analysed again.
+
+use std::path::{Path, PathBuf};
+
+use acuity_preprocess::pipeline::{
+    self, AnalysisSettings, ObjectAnalysis, ObjectSource, RunOptions,
+};
+use acuity_preprocess::render::Renderer;
+
+use crate::profile::{
+    InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFrequencies,
+    default_histogram_edges_cdiam, histogram_bin,
+};
+
+/// Where a profile came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CacheOutcome {
+    /// The cached profile matched every input hash: nothing was rendered.
+    Cached,
+    /// The object was analysed (no cache, or an input or setting changed).
+    Analysed,
+}
+
+/// The analysis settings as the profile records them.
+pub fn settings_record(settings: &AnalysisSettings) -> std::collections::BTreeMap<String, String> {
+    [
+        ("resolution_px", settings.resolution_px.to_string()),
+        ("viewpoint_level", settings.viewpoint_level.to_string()),
+        ("threshold_delta_e", settings.threshold_delta_e.to_string()),
+        ("feret_directions", settings.feret_directions.to_string()),
+        ("msaa_samples", settings.msaa_samples.to_string()),
+        ("statistic", format!("{:?}", settings.statistic)),
+        ("background_srgb", format!("{:?}", settings.background_srgb)),
+        ("analysis_version", pipeline::ANALYSIS_VERSION.to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_owned(), v))
+    .collect()
+}
+
+/// Converts an analysis into a runtime profile (frequencies in c/diam,
+/// histogram over [`default_histogram_edges_cdiam`]).
+pub fn profile_from_analysis(analysis: &ObjectAnalysis, settings: &AnalysisSettings) -> Profile {
+    let edges = default_histogram_edges_cdiam();
+    Profile {
+        format_version: PROFILE_FORMAT_VERSION,
+        name: analysis.name.clone(),
+        lod_triangles: analysis.lod_triangles.clone(),
+        bounding_radius: analysis.bounding_sphere.1,
+        viewpoints: analysis.viewpoints.clone(),
+        transitions: analysis
+            .transitions
+            .iter()
+            .map(|t| TransitionFrequencies {
+                lowest_cdiam: t.lowest_cdiam,
+                histogram: histogram(&t.frequencies_cdiam, &edges),
+            })
+            .collect(),
+        histogram_edges_cdiam: edges,
+        settings: settings_record(settings),
+        inputs: analysis
+            .input_hashes
+            .iter()
+            .map(|h| InputHash {
+                what: h.what.clone(),
+                hash_hex: h.hash_hex.clone(),
+            })
+            .collect(),
+    }
+}
+
+/// Counts `frequencies_cdiam` per bin of the profile's histogram (upper
+/// edges; see [`Profile::histogram_edges_cdiam`]).
+fn histogram(frequencies_cdiam: &[f32], edges: &[f32]) -> Vec<u32> {
+    let mut counts = vec![0u32; edges.len()];
+    for &f in frequencies_cdiam {
+        if let Some(c) = counts.get_mut(histogram_bin(edges, f)) {
+            *c += 1;
+        }
+    }
+    counts
+}
+
+/// The cache file of an object: `<cache_dir>/<name>.acp` (binary profile).
+pub fn cache_path(cache_dir: &Path, object: &ObjectSource) -> PathBuf {
+    let safe: String = object
+        .name()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    cache_dir.join(format!("{safe}.acp"))
+}
+
+/// The cached profile of an object, when `cache_dir` holds one whose
+/// recorded input hashes (files, generation parameters, settings) and
+/// settings equal the current ones; `None` when there is none, it is
+/// unreadable, or anything changed. Hashing reads the inputs (an unreadable
+/// input file is an error) but renders nothing.
+pub fn cached_profile(
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+    cache_dir: &Path,
+) -> anyhow::Result<Option<Profile>> {
+    let hashes = pipeline::input_hashes(object, settings)?;
+    let Ok(cached) = Profile::load(cache_path(cache_dir, object)) else {
+        return Ok(None);
+    };
+    let same = cached.inputs.len() == hashes.len()
+        && cached
+            .inputs
+            .iter()
+            .zip(&hashes)
+            .all(|(a, b)| a.what == b.what && a.hash_hex == b.hash_hex);
+    Ok((same && cached.settings == settings_record(settings)).then_some(cached))
+}
+
+/// Analyses an object with `renderer` and writes its profile to
+/// [`cache_path`] (creating `cache_dir`), whatever the cache holds.
+/// Returns the profile and the loader's non-fatal warnings.
+pub fn analyse_to_cache(
+    renderer: &Renderer,
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+    cache_dir: &Path,
+    run: &RunOptions<'_>,
+) -> anyhow::Result<(Profile, Vec<String>)> {
+    let analysis = pipeline::analyse(renderer, object, settings, run)?;
+    let profile = profile_from_analysis(&analysis, settings);
+    std::fs::create_dir_all(cache_dir)?;
+    profile.save(cache_path(cache_dir, object))?;
+    Ok((profile, analysis.warnings))
+}
+
+/// The profile of an object: from `cache_dir` when its recorded input
+/// hashes (which cover the files, the generation parameters and the
+/// settings) equal the current ones ([`cached_profile`]), else analysed
+/// with `renderer` and written there ([`analyse_to_cache`]). Hashing reads
+/// the inputs but renders nothing.
+pub fn ensure_profile(
+    renderer: &Renderer,
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+    cache_dir: &Path,
+    run: &RunOptions<'_>,
+) -> anyhow::Result<(Profile, CacheOutcome)> {
+    if let Some(cached) = cached_profile(object, settings, cache_dir)? {
+        return Ok((cached, CacheOutcome::Cached));
+    }
+    let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
+    Ok((profile, CacheOutcome::Analysed))
+}

@@ -1,0 +1,697 @@
+//! `acuity run <scene>`: fly a scene's camera path under each LOD policy,
+//! measure every frame, compare sampled frames with full detail by FLIP,
+//! and write a table, a per-frame CSV, plots and side-by-side images.
+//!
+//! Frame time is wall-clock time from the start of LOD selection to the
+//! moment the rendered image is back in memory (the renderer waits for the
+//! GPU), so it counts selection, submission, rasterisation and readback.
+//! The full-detail reference frames and FLIP are computed outside it.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use image::RgbImage;
+
+use super::flip::{flip_rgba, quantile};
+use super::frames::{FrameView, LoadOptions, World};
+use super::gaze::Gaze as GazePath;
+use super::plot::{LinePlot, Series, save_line_plot};
+use super::policy::{PolicyRunner, fit_cost_model};
+use super::scene::{Policy, Scene};
+use crate::CostModel;
+
+/// Arguments of `acuity run`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RunArgs {
+    /// The scene file (TOML).
+    pub scene: PathBuf,
+    /// Output folder (default `out/<scene file name>/`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Number of frames, spread over the same path (default: the scene's).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Policies to run, comma-separated (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    pub policies: Option<Vec<String>>,
+    /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<[u32; 2]>,
+    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Image size of profiles that must be made, pixels (16..=8192).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub profile_resolution: u32,
+    /// View-sphere level of profiles that must be made (0: 6 viewpoints,
+    /// 1: 18, 2: 66).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub profile_viewpoints: u32,
+    /// Print no progress lines on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    let (a, b) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
+    let p = |s: &str| match s.trim().parse::<u32>() {
+        Ok(v) if (1..=super::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
+    };
+    Ok([p(a)?, p(b)?])
+}
+
+/// A policy by its scene-file name.
+pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
+    Policy::ALL
+        .into_iter()
+        .find(|p| p.name() == name.trim())
+        .with_context(|| {
+            let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
+            format!("unknown policy `{name}` (known: {})", names.join(", "))
+        })
+}
+
+/// How a scene is played.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaySettings {
+    /// Frames per policy (>= 1).
+    pub frames: u32,
+    /// Simulated time between frames, seconds (> 0).
+    pub dt_s: f64,
+    /// FLIP against full detail on every n-th frame (0: never).
+    pub flip_every_n_frames: u32,
+    /// The policies, in run order.
+    pub policies: Vec<Policy>,
+    /// Keep each policy's worst-FLIP frame in memory for images.
+    pub keep_images: bool,
+}
+
+impl PlaySettings {
+    /// The scene's run settings; `frames` (if given, >= 1) replaces the
+    /// frame count and spreads the frames over the same simulated time.
+    pub fn from_scene(scene: &Scene, frames: Option<u32>) -> anyhow::Result<PlaySettings> {
+        let run = &scene.run;
+        let (frames, dt_s) = match frames {
+            Some(0) => bail!("--frames must be at least 1"),
+            Some(n) => (n, run.frame_dt_s * f64::from(run.frames) / f64::from(n)),
+            None => (run.frames, run.frame_dt_s),
+        };
+        Ok(PlaySettings {
+            frames,
+            dt_s,
+            flip_every_n_frames: run.flip_every_n_frames,
+            policies: run.policies.clone(),
+            keep_images: true,
+        })
+    }
+}
+
+/// One played frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameRecord {
+    /// The policy.
+    pub policy: Policy,
+    /// Frame index.
+    pub frame: u32,
+    /// Simulated time, seconds.
+    pub t_s: f64,
+    /// Measured frame time (selection + render + readback), milliseconds.
+    pub frame_ms: f64,
+    /// Of which LOD selection, milliseconds.
+    pub select_ms: f64,
+    /// Triangles drawn.
+    pub triangles: u64,
+    /// Draw calls issued (one per distinct mesh and LOD).
+    pub draw_calls: u32,
+    /// Instances drawn (not culled).
+    pub drawn: u32,
+    /// Mean LOD index of the drawn instances (0 = finest); NaN if none.
+    pub mean_lod: f64,
+    /// The scale factor `s` used.
+    pub scale: f32,
+    /// The predictive scheduler's triangle budget, if any.
+    pub triangle_budget: Option<u64>,
+    /// Mean per-pixel FLIP against full detail, on sampled frames.
+    pub flip_mean: Option<f32>,
+    /// 95th percentile of per-pixel FLIP, on sampled frames.
+    pub flip_p95: Option<f32>,
+}
+
+/// The frame of a policy with the largest FLIP, for images.
+#[derive(Debug, Clone)]
+pub struct WorstFrame {
+    /// Frame index.
+    pub frame: u32,
+    /// Its mean FLIP.
+    pub flip_mean: f32,
+    /// The policy's image, RGBA8 sRGB.
+    pub test_rgba: Vec<u8>,
+    /// The colour-mapped FLIP map, RGB8.
+    pub map_rgb: Vec<u8>,
+}
+
+/// Everything measured for one policy.
+#[derive(Debug, Clone)]
+pub struct PolicyRun {
+    /// The policy.
+    pub policy: Policy,
+    /// One record per frame.
+    pub frames: Vec<FrameRecord>,
+    /// The worst-FLIP frame (if images were kept and FLIP was sampled).
+    pub worst: Option<WorstFrame>,
+}
+
+/// Plays a loaded world under policies, sharing full-detail references.
+pub struct Player<'w> {
+    world: &'w World,
+    gaze: GazePath,
+    settings: PlaySettings,
+    full: PolicyRunner,
+    references: HashMap<u32, Vec<u8>>,
+    cost_samples: Vec<(f64, u64)>,
+    lods: Vec<Option<usize>>,
+}
+
+impl<'w> Player<'w> {
+    /// A player for `world`; renders one untimed warm-up frame.
+    pub fn new(world: &'w World, settings: PlaySettings) -> anyhow::Result<Player<'w>> {
+        let full = PolicyRunner::new(
+            world,
+            Policy::Full,
+            world.scene.run.screen_size_bias,
+            fit_cost_model(&[]),
+        )?;
+        let mut p = Player {
+            world,
+            gaze: world.scene.gaze(),
+            settings,
+            full,
+            references: HashMap::new(),
+            cost_samples: Vec::new(),
+            lods: Vec::new(),
+        };
+        let view = p.view(0);
+        p.full.choose(world, &view, 0.0, &mut p.lods)?;
+        world.render(&view, &p.lods)?;
+        Ok(p)
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &PlaySettings {
+        &self.settings
+    }
+
+    fn view(&self, k: u32) -> FrameView {
+        self.world
+            .view_at(k, f64::from(k) * self.settings.dt_s, &self.gaze)
+    }
+
+    /// The full-detail image of frame `k` (rendered once, then cached).
+    pub fn reference(&mut self, k: u32) -> anyhow::Result<&[u8]> {
+        if !self.references.contains_key(&k) {
+            let view = self.view(k);
+            let mut lods = Vec::new();
+            self.full.choose(self.world, &view, 0.0, &mut lods)?;
+            let out = self.world.render(&view, &lods)?;
+            self.references.insert(k, out.rgba);
+        }
+        Ok(&self.references[&k])
+    }
+
+    /// Measures a few untimed-for-results frames spread over the path, at
+    /// full detail and with screen-size LODs (different triangle counts),
+    /// and fits the predictive scheduler's starting cost model to them.
+    /// Also warms the renderer's caches for every mesh.
+    pub fn calibrate(&mut self, screen_size_bias: f64) -> anyhow::Result<CostModel> {
+        let world = self.world;
+        let mut screen = PolicyRunner::new(
+            world,
+            Policy::ScreenSize,
+            screen_size_bias,
+            fit_cost_model(&[]),
+        )?;
+        let n = self.settings.frames.min(CALIBRATION_FRAMES);
+        let mut lods = Vec::new();
+        for i in 0..n {
+            let k = i * self.settings.frames / n;
+            let view = self.view(k);
+            for runner in [&mut self.full, &mut screen] {
+                let start = Instant::now();
+                runner.choose(world, &view, 0.0, &mut lods)?;
+                let out = world.render(&view, &lods)?;
+                self.cost_samples
+                    .push((start.elapsed().as_secs_f64(), out.triangles));
+            }
+        }
+        Ok(fit_cost_model(&self.cost_samples))
+    }
+
+    /// Plays every frame under each policy, each with a fresh selector.
+    /// Policies are interleaved frame by frame (in an order rotated every
+    /// frame), so background load and caches affect them alike.
+    pub fn play_all(
+        &mut self,
+        policies: &[Policy],
+        screen_size_bias: f64,
+    ) -> anyhow::Result<Vec<PolicyRun>> {
+        let world = self.world;
+        let cost = self.calibrate(screen_size_bias)?;
+        let mut runners = policies
+            .iter()
+            .map(|&p| {
+                let mut r = PolicyRunner::new(world, p, screen_size_bias, cost)?;
+                r.set_scale(world.scene.run.scale_factor as f32);
+                Ok(r)
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let mut runs: Vec<PolicyRun> = policies
+            .iter()
+            .map(|&policy| PolicyRun {
+                policy,
+                frames: Vec::with_capacity(self.settings.frames as usize),
+                worst: None,
+            })
+            .collect();
+        let [w, h] = world.scene.display.resolution_px;
+        let ppd = world.pixels_per_degree();
+        let mut lods = std::mem::take(&mut self.lods);
+        let n_pol = policies.len().max(1);
+        for k in 0..self.settings.frames {
+            let view = self.view(k);
+            for j in 0..policies.len() {
+                let p = (j + k as usize) % n_pol;
+                let (runner, run) = (&mut runners[p], &mut runs[p]);
+                let start = Instant::now();
+                let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
+                let selected = start.elapsed();
+                let out = world.render(&view, &lods)?;
+                let frame_s = start.elapsed().as_secs_f64();
+                runner.observe(frame_s, out.triangles);
+                let drawn: Vec<usize> = lods.iter().flatten().copied().collect();
+                let mean_lod = if drawn.is_empty() {
+                    f64::NAN
+                } else {
+                    drawn.iter().sum::<usize>() as f64 / drawn.len() as f64
+                };
+                let mut rec = FrameRecord {
+                    policy: run.policy,
+                    frame: k,
+                    t_s: view.t_s,
+                    frame_ms: frame_s * 1e3,
+                    select_ms: selected.as_secs_f64() * 1e3,
+                    triangles: out.triangles,
+                    draw_calls: out.draw_calls,
+                    drawn: drawn.len() as u32,
+                    mean_lod,
+                    scale: choice.scale,
+                    triangle_budget: choice.triangle_budget,
+                    flip_mean: None,
+                    flip_p95: None,
+                };
+                let every = self.settings.flip_every_n_frames;
+                if every > 0 && k % every == 0 {
+                    let keep = self.settings.keep_images;
+                    let reference = self.reference(k)?;
+                    let f = flip_rgba(reference, &out.rgba, w, h, ppd)?;
+                    rec.flip_mean = Some(f.mean);
+                    rec.flip_p95 = Some(f.p95);
+                    if keep && run.worst.as_ref().is_none_or(|x| f.mean > x.flip_mean) {
+                        run.worst = Some(WorstFrame {
+                            frame: k,
+                            flip_mean: f.mean,
+                            test_rgba: out.rgba,
+                            map_rgb: f.map_rgb,
+                        });
+                    }
+                }
+                run.frames.push(rec);
+            }
+        }
+        self.lods = lods;
+        Ok(runs)
+    }
+}
+
+/// Frames measured by [`Player::calibrate`] (at most; fewer in short runs).
+pub const CALIBRATION_FRAMES: u32 = 8;
+
+/// Per-policy summary of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The policy.
+    pub policy: Policy,
+    /// Mean frame time, milliseconds.
+    pub mean_ms: f64,
+    /// 95th percentile frame time, milliseconds.
+    pub p95_ms: f64,
+    /// Mean triangles per frame.
+    pub triangles: f64,
+    /// Mean draw calls per frame.
+    pub draw_calls: f64,
+    /// Mean LOD index over drawn instances and frames (0 = finest).
+    pub mean_lod: f64,
+    /// Mean frame time of full detail over this policy's, measured in the
+    /// same run; `None` without a full-detail run.
+    pub speedup: Option<f64>,
+    /// Full detail's mean triangles over this policy's.
+    pub triangle_ratio: Option<f64>,
+    /// Mean over sampled frames of the frame's mean FLIP; NaN if none.
+    pub flip_mean: f64,
+    /// 95th percentile over sampled frames of the frame's mean FLIP.
+    pub flip_p95: f64,
+    /// Fraction of frames longer than the target period.
+    pub over_budget: f64,
+    /// Mean scale factor `s`.
+    pub mean_scale: f64,
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { f64::NAN } else { s / n as f64 }
+}
+
+/// Summarises runs; `budget_s` is the target frame period in seconds.
+pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
+    let base = |f: &dyn Fn(&PolicyRun) -> f64| {
+        runs.iter()
+            .find(|r| r.policy == Policy::Full)
+            .map(f)
+            .filter(|v| v.is_finite() && *v > 0.0)
+    };
+    let ms = |r: &PolicyRun| mean(r.frames.iter().map(|f| f.frame_ms));
+    let tris = |r: &PolicyRun| mean(r.frames.iter().map(|f| f.triangles as f64));
+    let (full_ms, full_tris) = (base(&ms), base(&tris));
+    runs.iter()
+        .map(|r| {
+            let times: Vec<f64> = r.frames.iter().map(|f| f.frame_ms).collect();
+            let flips: Vec<f64> = r
+                .frames
+                .iter()
+                .filter_map(|f| f.flip_mean.map(f64::from))
+                .collect();
+            let n = r.frames.len().max(1) as f64;
+            Summary {
+                policy: r.policy,
+                mean_ms: ms(r),
+                p95_ms: quantile(&times, 0.95),
+                triangles: tris(r),
+                draw_calls: mean(r.frames.iter().map(|f| f64::from(f.draw_calls))),
+                mean_lod: mean(
+                    r.frames
+                        .iter()
+                        .map(|f| f.mean_lod)
+                        .filter(|x| x.is_finite()),
+                ),
+                speedup: full_ms.map(|b| b / ms(r)),
+                triangle_ratio: full_tris.map(|b| b / tris(r)),
+                flip_mean: mean(flips.iter().copied()),
+                flip_p95: quantile(&flips, 0.95),
+                over_budget: r
+                    .frames
+                    .iter()
+                    .filter(|f| f.frame_ms * 1e-3 > budget_s)
+                    .count() as f64
+                    / n,
+                mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
+            }
+        })
+        .collect()
+}
+
+/// The summary as a text table.
+pub fn format_table(summaries: &[Summary]) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>8} {:>8} {:>6} {:>5}",
+        "policy",
+        "mean ms",
+        "p95 ms",
+        "tris/frm",
+        "draws",
+        "speedup",
+        "tri x",
+        "LOD",
+        "FLIP",
+        "FLIP p95",
+        "over%",
+        "s"
+    );
+    let opt = |v: Option<f64>| v.map_or("-".to_owned(), |v| format!("{v:.2}x"));
+    for s in summaries {
+        let _ = writeln!(
+            t,
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8.4} {:>8.4} {:>6.1} {:>5.2}",
+            s.policy.name(),
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.draw_calls,
+            opt(s.speedup),
+            opt(s.triangle_ratio),
+            s.mean_lod,
+            s.flip_mean,
+            s.flip_p95,
+            100.0 * s.over_budget,
+            s.mean_scale
+        );
+    }
+    t
+}
+
+/// Writes the per-frame CSV.
+pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
+    let mut t = String::from(
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,scale,triangle_budget,flip_mean,flip_p95\n",
+    );
+    let o = |v: Option<String>| v.unwrap_or_default();
+    for r in runs {
+        for f in &r.frames {
+            let _ = writeln!(
+                t,
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{:.5},{},{},{}",
+                f.policy.name(),
+                f.frame,
+                f.t_s,
+                f.frame_ms,
+                f.select_ms,
+                f.triangles,
+                f.draw_calls,
+                f.drawn,
+                f.mean_lod,
+                f.scale,
+                o(f.triangle_budget.map(|b| b.to_string())),
+                o(f.flip_mean.map(|v| format!("{v:.6}"))),
+                o(f.flip_p95.map(|v| format!("{v:.6}"))),
+            );
+        }
+    }
+    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes the summary CSV.
+pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
+    let mut t = String::from(
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale\n",
+    );
+    let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
+    for s in summaries {
+        let _ = writeln!(
+            t,
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{},{},{:.6},{:.6},{:.4},{:.4}",
+            s.policy.name(),
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.draw_calls,
+            s.mean_lod,
+            o(s.speedup),
+            o(s.triangle_ratio),
+            s.flip_mean,
+            s.flip_p95,
+            s.over_budget,
+            s.mean_scale
+        );
+    }
+    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes `reference | test | FLIP map` side by side as one PNG.
+pub fn write_side_by_side(
+    reference_rgba: &[u8],
+    worst: &WorstFrame,
+    [w, h]: [u32; 2],
+    path: &Path,
+) -> anyhow::Result<()> {
+    let mut img = RgbImage::new(3 * w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            let px = |b: &[u8], n: usize| image::Rgb([b[n * i], b[n * i + 1], b[n * i + 2]]);
+            img.put_pixel(x, y, px(reference_rgba, 4));
+            img.put_pixel(w + x, y, px(&worst.test_rgba, 4));
+            img.put_pixel(2 * w + x, y, px(&worst.map_rgb, 3));
+        }
+    }
+    img.save(path)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn over_time(runs: &[PolicyRun], f: impl Fn(&FrameRecord) -> f64) -> Vec<Series> {
+    runs.iter()
+        .map(|r| Series {
+            name: r.policy.name().to_owned(),
+            points: r.frames.iter().map(|x| (x.t_s, f(x))).collect(),
+        })
+        .collect()
+}
+
+/// Writes the plots: frame time, triangles and `s` over time per policy.
+pub fn write_plots(runs: &[PolicyRun], scene_name: &str, dir: &Path) -> anyhow::Result<()> {
+    let plot = |title: &str, y: &str, series| LinePlot {
+        title: format!("{scene_name}: {title}"),
+        x_label: "simulated time (s)".into(),
+        y_label: y.into(),
+        series,
+        y_from_zero: true,
+        ..Default::default()
+    };
+    save_line_plot(
+        &plot("frame time", "ms", over_time(runs, |f| f.frame_ms)),
+        &dir.join("frame_time.png"),
+    )?;
+    save_line_plot(
+        &plot(
+            "triangles",
+            "triangles",
+            over_time(runs, |f| f.triangles as f64),
+        ),
+        &dir.join("triangles.png"),
+    )?;
+    save_line_plot(
+        &plot(
+            "scale factor s",
+            "s",
+            over_time(runs, |f| f64::from(f.scale)),
+        ),
+        &dir.join("scale.png"),
+    )
+}
+
+/// What [`run`] produced.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// Per-policy runs.
+    pub runs: Vec<PolicyRun>,
+    /// Their summaries.
+    pub summaries: Vec<Summary>,
+    /// Where the files went.
+    pub out_dir: PathBuf,
+}
+
+/// Loads `args.scene`, applies the overrides and loads its world.
+pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
+    let mut scene = Scene::load(&args.scene)?;
+    if let Some(r) = args.resolution {
+        scene.display.resolution_px = r;
+    }
+    if let Some(p) = &args.policies {
+        let mut ps = Vec::new();
+        for name in p {
+            let policy = policy_by_name(name)?;
+            if !ps.contains(&policy) {
+                ps.push(policy);
+            }
+        }
+        scene.run.policies = ps;
+    }
+    let options = LoadOptions {
+        cache_dir: args.cache_dir.clone(),
+        verbose: !args.quiet,
+        settings: acuity_preprocess::pipeline::AnalysisSettings {
+            resolution_px: args.profile_resolution,
+            viewpoint_level: args.profile_viewpoints,
+            ..super::frames::default_analysis_settings()
+        },
+    };
+    World::load(scene, &options)
+}
+
+/// Runs `acuity run`: plays, prints the table and writes every output.
+pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    let world = load_world(args)?;
+    let scene = &world.scene;
+    let name = scene
+        .source_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(&name));
+    std::fs::create_dir_all(&out_dir).with_context(|| format!("creating {}", out_dir.display()))?;
+    let settings = PlaySettings::from_scene(scene, args.frames)?;
+    if !args.quiet {
+        eprintln!(
+            "{name}: {} instances, {} frames x {} policies at {}x{}, renderer: {}",
+            world.instances.len(),
+            settings.frames,
+            settings.policies.len(),
+            scene.display.resolution_px[0],
+            scene.display.resolution_px[1],
+            world.renderer.adapter_info()
+        );
+    }
+    let mut player = Player::new(&world, settings.clone())?;
+    let started = Instant::now();
+    let runs = player.play_all(&settings.policies, scene.run.screen_size_bias)?;
+    if !args.quiet {
+        eprintln!("played in {:.1} s", started.elapsed().as_secs_f64());
+    }
+    let summaries = summarize(&runs, scene.run.budget_s());
+    print!("{}", format_table(&summaries));
+    write_frames_csv(&runs, &out_dir.join("frames.csv"))?;
+    write_summary_csv(&summaries, &out_dir.join("summary.csv"))?;
+    write_plots(&runs, &name, &out_dir)?;
+    for r in &runs {
+        if let Some(wf) = &r.worst {
+            let reference = player.reference(wf.frame)?.to_vec();
+            let path = out_dir.join(format!("flip_{}_frame{:04}.png", r.policy.name(), wf.frame));
+            write_side_by_side(&reference, wf, scene.display.resolution_px, &path)?;
+        }
+    }
+    if !args.quiet {
+        eprintln!(
+            "wrote {} (frames.csv, summary.csv, frame_time.png, triangles.png, scale.png, flip_*.png: reference | policy | FLIP)",
+            out_dir.display()
+        );
+    }
+    Ok(RunOutcome {
+        runs,
+        summaries,
+        out_dir,
+    })
+}
+
+/// `acuity run` as a command: errors print as one line; exit code 2 for
+/// bad input or failures.
+pub fn command(args: &RunArgs) -> ExitCode {
+    match run(args) {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
