@@ -202,3 +202,24 @@ impl CostModel {
         (spare / self.per_triangle_s).min(u64::MAX as f32 / 2.0) as u64
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cost_model_learns_the_per_triangle_cost() {
+        let mut m = CostModel::new(0.002, 1e-6);
+        for _ in 0..200 {
+            // The true cost: 2 ms + 10 ns per triangle.
+            m.observe(0.002 + 1e-8 * 500_000.0, 500_000);
+        }
+        assert!((m.per_triangle_s / 1e-8 - 1.0).abs() < 1e-3, "{m:?}");
+        let budget = m.triangle_budget(1.0 / 90.0);
+        assert!((budget as f64 / 911_111.0 - 1.0).abs() < 1e-2, "{budget}");
+        m.observe(f32::NAN, 10);
+        m.observe(0.01, 0);
+        assert!((m.per_triangle_s / 1e-8 - 1.0).abs() < 1e-3);
+        assert_eq!(m.triangle_budget(0.001), 0);
+    }
+}

@@ -9,16 +9,14 @@
 //! `T * theta`. Prefix minima are precomputed per viewpoint, which makes the
 //! choice a count of comparisons.
 //!
-//! Layout. Objects with more than one LOD live in struct-of-arrays form
-//! (`f64` centres, radii, profiles, rotations) with their motion state and
-//! outputs in parallel arrays; objects with one LOD live apart and are only
-//! culled (or not touched at all with culling off). The loop works in
-//! blocks of 64: a first stage of straight-line arithmetic (the model, with
-//! branch-free polynomial `asin`/`acos`/`log10` from [`crate::fastmath`])
-//! and a second, scalar stage (viewpoint lookup, LOD count) that culled
-//! objects skip. It is monomorphised over the velocity, eccentricity and
-//! nearest-viewpoint switches, so a switched-off component costs nothing,
-//! allocates nothing, and runs on rayon (feature `parallel`) above
+//! Layout. Objects with more than one LOD live in a dense array of 48-byte
+//! records (`f64` centre, radius, profile, rotation) with their motion
+//! state and outputs in parallel arrays; objects with one LOD live apart and
+//! are only culled (or not touched at all with culling off). The loop is
+//! monomorphised over the velocity, eccentricity and nearest-viewpoint
+//! switches, so a switched-off component costs nothing, uses branch-free
+//! polynomial `asin`/`acos`/`log10` ([`crate::fastmath`]), allocates
+//! nothing, and runs on rayon (feature `parallel`) above
 //! [`SelectorSettings::parallel_min_objects`].
 
 use glam::{DVec3, Mat3, Quat, Vec3};
@@ -169,50 +167,13 @@ pub struct BudgetOutcome {
     pub within_budget: bool,
 }
 
-/// The multi-LOD objects, struct-of-arrays: the first stage of the loop
-/// reads only the centres and radii, in unit stride.
-#[derive(Clone, Debug, Default)]
-struct Objects {
-    center_x: Vec<f64>,
-    center_y: Vec<f64>,
-    center_z: Vec<f64>,
-    radius: Vec<f32>,
-    profile: Vec<u32>,
-    rotation: Vec<Quat>,
-}
-
-impl Objects {
-    fn len(&self) -> usize {
-        self.radius.len()
-    }
-
-    fn set_center(&mut self, i: usize, c: DVec3) {
-        self.center_x[i] = c.x;
-        self.center_y[i] = c.y;
-        self.center_z[i] = c.z;
-    }
-
-    /// The objects `start..end` as borrowed slices.
-    fn range(&self, start: usize, end: usize) -> ObjectSlices<'_> {
-        ObjectSlices {
-            center_x: &self.center_x[start..end],
-            center_y: &self.center_y[start..end],
-            center_z: &self.center_z[start..end],
-            radius: &self.radius[start..end],
-            profile: &self.profile[start..end],
-            rotation: &self.rotation[start..end],
-        }
-    }
-}
-
-#[derive(Clone, Copy)]
-struct ObjectSlices<'a> {
-    center_x: &'a [f64],
-    center_y: &'a [f64],
-    center_z: &'a [f64],
-    radius: &'a [f32],
-    profile: &'a [u32],
-    rotation: &'a [Quat],
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+struct ObjectRecord {
+    center: DVec3,
+    radius: f32,
+    profile: u32,
+    rotation: Quat,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -277,7 +238,7 @@ pub struct Selector {
     settings: SelectorSettings,
     profiles: Vec<CompiledProfile>,
     rows: Vec<f32>,
-    objects: Objects,
+    objects: Vec<ObjectRecord>,
     motion: Vec<MotionState>,
     selections: Vec<Selection>,
     diagnostics: Vec<Diagnostics>,
@@ -320,7 +281,7 @@ impl Selector {
             settings,
             profiles: Vec::new(),
             rows: Vec::new(),
-            objects: Objects::default(),
+            objects: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
             diagnostics: Vec::new(),
@@ -404,13 +365,12 @@ impl Selector {
         if self.objects.len() as u32 >= SINGLE_LOD_BIT - 1 {
             return Err(Error::invalid("objects", "more than 2^31 objects"));
         }
-        let o = &mut self.objects;
-        o.center_x.push(center.x);
-        o.center_y.push(center.y);
-        o.center_z.push(center.z);
-        o.radius.push(radius);
-        o.profile.push(desc.profile.0);
-        o.rotation.push(rotation);
+        self.objects.push(ObjectRecord {
+            center,
+            radius,
+            profile: desc.profile.0,
+            rotation,
+        });
         self.motion.push(NO_HISTORY);
         self.selections.push(Selection(0));
         self.diagnostics.push(Diagnostics::default());
@@ -425,9 +385,9 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].center = center;
         } else {
-            let i = id.0 as usize;
-            self.objects.set_center(i, center);
-            self.objects.rotation[i] = rotation;
+            let rec = &mut self.objects[id.0 as usize];
+            rec.center = center;
+            rec.rotation = rotation;
         }
         Ok(())
     }
@@ -444,7 +404,7 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].radius = radius;
         } else {
-            self.objects.radius[id.0 as usize] = radius;
+            self.objects[id.0 as usize].radius = radius;
         }
         Ok(())
     }
@@ -455,7 +415,7 @@ impl Selector {
                 .get((id.0 & !SINGLE_LOD_BIT) as usize)
                 .map(|s| s.radius)
         } else {
-            self.objects.radius.get(id.0 as usize).copied()
+            self.objects.get(id.0 as usize).map(|o| o.radius)
         };
         r.ok_or_else(|| Error::invalid("id", format!("{id:?} is not in this selector")))
     }
@@ -486,12 +446,11 @@ impl Selector {
     pub fn triangles(&self) -> u64 {
         let multi: u64 = self
             .objects
-            .profile
             .iter()
             .zip(&self.selections)
-            .filter_map(|(&p, s)| {
+            .filter_map(|(o, s)| {
                 s.lod()
-                    .map(|l| self.profiles[p as usize].triangles[l] as u64)
+                    .map(|l| self.profiles[o.profile as usize].triangles[l] as u64)
             })
             .sum();
         multi + self.single_triangles()
@@ -574,11 +533,11 @@ impl Selector {
             let (lo, hi) = (s_min.ln(), s_max.ln());
             let width = ((hi - lo) / BINS as f32).max(f32::MIN_POSITIVE);
             let mut saved = [0u64; BINS];
-            for (entry, &profile) in self.budget.iter().zip(&self.objects.profile) {
+            for (entry, rec) in self.budget.iter().zip(&self.objects) {
                 if entry.row == u32::MAX {
                     continue;
                 }
-                let p = &self.profiles[profile as usize];
+                let p = &self.profiles[rec.profile as usize];
                 let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
                 for (j, &f) in row.iter().enumerate() {
                     // LOD > j exactly when s < f / k.
@@ -620,10 +579,10 @@ impl Selector {
     fn triangles_at(&self, scale: f32) -> u64 {
         self.budget
             .iter()
-            .zip(&self.objects.profile)
+            .zip(&self.objects)
             .filter(|(e, _)| e.row != u32::MAX)
-            .map(|(e, &profile)| {
-                let p = &self.profiles[profile as usize];
+            .map(|(e, rec)| {
+                let p = &self.profiles[rec.profile as usize];
                 let lod = count_coarser(
                     &self.rows[e.row as usize..][..p.lod_count - 1],
                     scale * e.k_cdiam,
@@ -634,16 +593,16 @@ impl Selector {
     }
 
     fn apply_budget_scale(&mut self, scale: f32) {
-        for ((e, &profile), sel) in self
+        for ((e, rec), sel) in self
             .budget
             .iter()
-            .zip(&self.objects.profile)
+            .zip(&self.objects)
             .zip(&mut self.selections)
         {
             if e.row == u32::MAX {
                 continue;
             }
-            let n = self.profiles[profile as usize].lod_count - 1;
+            let n = self.profiles[rec.profile as usize].lod_count - 1;
             *sel = Selection(
                 count_coarser(&self.rows[e.row as usize..][..n], scale * e.k_cdiam) as u8,
             );
@@ -750,65 +709,76 @@ struct Outputs<'a> {
     budget: Option<&'a mut [BudgetEntry]>,
 }
 
-type Kernel = fn(&FrameConsts<'_>, ObjectSlices<'_>, &mut [MotionState], u32, Outputs<'_>);
+type Kernel = fn(&FrameConsts<'_>, &[ObjectRecord], &mut [MotionState], u32, Outputs<'_>);
 
 fn dispatch(
     c: &FrameConsts<'_>,
-    objects: &Objects,
+    objects: &[ObjectRecord],
     motion: &mut [MotionState],
     out: Outputs<'_>,
     kernel: Kernel,
     parallel_min: usize,
 ) {
-    let n = objects.len();
     #[cfg(feature = "parallel")]
-    if n >= parallel_min.max(2 * CHUNK) {
+    if objects.len() >= parallel_min.max(2 * CHUNK) {
         use rayon::prelude::*;
         let Outputs {
             selections,
             diagnostics,
             budget,
         } = out;
-        let slices = |i: usize| objects.range(i * CHUNK, ((i + 1) * CHUNK).min(n));
-        let base = motion
-            .par_chunks_mut(CHUNK)
+        let diag_iter = diagnostics.map(|d| d.par_chunks_mut(CHUNK));
+        let budget_iter = budget.map(|b| b.par_chunks_mut(CHUNK));
+        let base = objects
+            .par_chunks(CHUNK)
+            .zip(motion.par_chunks_mut(CHUNK))
             .zip(selections.par_chunks_mut(CHUNK))
             .enumerate();
-        let first = |i: usize| (i * CHUNK) as u32;
-        match (diagnostics, budget) {
-            (Some(d), _) => base
-                .zip(d.par_chunks_mut(CHUNK))
-                .for_each(|((i, (m, s)), d)| {
-                    let out = Outputs {
+        match (diag_iter, budget_iter) {
+            (Some(d), _) => base.zip(d).for_each(|((i, ((o, m), s)), d)| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
                         selections: s,
                         diagnostics: Some(d),
                         budget: None,
-                    };
-                    kernel(c, slices(i), m, first(i), out)
-                }),
-            (None, Some(b)) => base
-                .zip(b.par_chunks_mut(CHUNK))
-                .for_each(|((i, (m, s)), b)| {
-                    let out = Outputs {
+                    },
+                )
+            }),
+            (None, Some(b)) => base.zip(b).for_each(|((i, ((o, m), s)), b)| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
                         selections: s,
                         diagnostics: None,
                         budget: Some(b),
-                    };
-                    kernel(c, slices(i), m, first(i), out)
-                }),
-            (None, None) => base.for_each(|(i, (m, s))| {
-                let out = Outputs {
-                    selections: s,
-                    diagnostics: None,
-                    budget: None,
-                };
-                kernel(c, slices(i), m, first(i), out)
+                    },
+                )
+            }),
+            (None, None) => base.for_each(|(i, ((o, m), s))| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
+                        selections: s,
+                        diagnostics: None,
+                        budget: None,
+                    },
+                )
             }),
         }
         return;
     }
     let _ = parallel_min;
-    kernel(c, objects.range(0, n), motion, 0, out);
+    kernel(c, objects, motion, 0, out);
 }
 
 /// Whether a sphere at `p` (eye frame) of radius `r` lies wholly outside a
@@ -852,33 +822,10 @@ fn count_coarser(prefix_min_cdiam: &[f32], k_cdiam: f32) -> usize {
         .sum()
 }
 
-/// Objects per block: the first stage fills block-sized arrays on the
-/// stack that the second stage reads.
-const BLOCK: usize = 64;
-
-/// Per-object results of the first stage.
-struct Block {
-    rel_x: [f32; BLOCK],
-    rel_y: [f32; BLOCK],
-    rel_z: [f32; BLOCK],
-    k_cdiam: [f32; BLOCK],
-    culled: [bool; BLOCK],
-    theta_deg: [f32; BLOCK],
-    eccentricity_deg: [f32; BLOCK],
-    velocity_deg_per_s: [f32; BLOCK],
-    threshold_cpd: [f32; BLOCK],
-}
-
-/// The selection loop for one run of objects, in blocks of [`BLOCK`].
-///
-/// Stage 1 ([`model_stage`]) is straight-line arithmetic over the block
-/// (no branches, unit-stride loads), which the compiler vectorises: angular
-/// size, eccentricity, retinal velocity, `T` and the threshold `k = T theta`
-/// in c/diam. Stage 2 is scalar: culling, the viewpoint's prefix-minimum
-/// row and the LOD count.
+#[inline(always)]
 fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     c: &FrameConsts<'_>,
-    objects: ObjectSlices<'_>,
+    objects: &[ObjectRecord],
     motion: &mut [MotionState],
     first_index: u32,
     out: Outputs<'_>,
@@ -888,120 +835,32 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         mut diagnostics,
         mut budget,
     } = out;
-    let mut block = Block {
-        rel_x: [0.0; BLOCK],
-        rel_y: [0.0; BLOCK],
-        rel_z: [0.0; BLOCK],
-        k_cdiam: [0.0; BLOCK],
-        culled: [false; BLOCK],
-        theta_deg: [0.0; BLOCK],
-        eccentricity_deg: [0.0; BLOCK],
-        velocity_deg_per_s: [0.0; BLOCK],
-        threshold_cpd: [0.0; BLOCK],
-    };
-    let n = objects.radius.len();
-    let mut start = 0;
-    while start < n {
-        let end = (start + BLOCK).min(n);
-        let len = end - start;
-        model_stage::<VELOCITY, ECCENTRICITY>(
-            c,
-            &objects.center_x[start..end],
-            &objects.center_y[start..end],
-            &objects.center_z[start..end],
-            &objects.radius[start..end],
-            &mut motion[start..end],
-            first_index + start as u32,
-            &mut block,
-        );
-        for b in 0..len {
-            let i = start + b;
-            if block.culled[b] {
-                selections[i] = Selection::CULLED;
-                if let Some(bud) = budget.as_deref_mut() {
-                    bud[i].row = u32::MAX;
-                }
-                continue;
-            }
-            let profile = &c.profiles[objects.profile[i] as usize];
-            let n_rows = profile.lod_count - 1;
-            let row = match (&profile.views, NEAREST) {
-                (Some(views), true) => {
-                    let rel = Vec3::new(block.rel_x[b], block.rel_y[b], block.rel_z[b]);
-                    let to_camera_obj = objects.rotation[i].conjugate() * (-rel);
-                    profile.rows_start + (1 + views.nearest(to_camera_obj)) * n_rows
-                }
-                _ => profile.rows_start,
-            };
-            let k = block.k_cdiam[b];
-            selections[i] = Selection(count_coarser(&c.rows[row..row + n_rows], k) as u8);
-            if let Some(d) = diagnostics.as_deref_mut() {
-                d[i] = Diagnostics {
-                    angular_size_deg: block.theta_deg[b],
-                    eccentricity_deg: block.eccentricity_deg[b],
-                    velocity_deg_per_s: block.velocity_deg_per_s[b],
-                    threshold_cpd: block.threshold_cpd[b],
-                };
-            }
-            if let Some(bud) = budget.as_deref_mut() {
-                bud[i] = BudgetEntry {
-                    k_cdiam: k,
-                    row: row as u32,
-                };
-            }
-        }
-        start = end;
-    }
-}
-
-/// Stage 1 of [`kernel`] for one block: the acuity model per object
-/// (REFERENCE §2–§3), and the motion state's update.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn model_stage<const VELOCITY: bool, const ECCENTRICITY: bool>(
-    c: &FrameConsts<'_>,
-    center_x: &[f64],
-    center_y: &[f64],
-    center_z: &[f64],
-    radius: &[f32],
-    motion: &mut [MotionState],
-    first_index: u32,
-    out: &mut Block,
-) {
-    let len = radius.len();
-    // Camera-relative positions in f32 first (f64 halves the vector width),
-    // then the model in f32 throughout.
-    for (axis, (centers, cam)) in [
-        (&mut out.rel_x, (center_x, c.cam_pos.x)),
-        (&mut out.rel_y, (center_y, c.cam_pos.y)),
-        (&mut out.rel_z, (center_z, c.cam_pos.z)),
-    ] {
-        for (r, &x) in axis[..len].iter_mut().zip(&centers[..len]) {
-            *r = (x - cam) as f32;
-        }
-    }
-    // Every slice of length `len`: the loop below has no bounds checks,
-    // which is what lets it vectorise.
-    let motion = &mut motion[..len];
-    let radius = &radius[..len];
-    let (rel_x, rel_y, rel_z) = (&out.rel_x[..len], &out.rel_y[..len], &out.rel_z[..len]);
-    let k_out = &mut out.k_cdiam[..len];
-    let culled_out = &mut out.culled[..len];
-    let theta_out = &mut out.theta_deg[..len];
-    let ecc_out = &mut out.eccentricity_deg[..len];
-    let vel_out = &mut out.velocity_deg_per_s[..len];
-    let threshold_out = &mut out.threshold_cpd[..len];
-    let m = c.world_to_eye;
-    for b in 0..len {
-        let rel = Vec3::new(rel_x[b], rel_y[b], rel_z[b]);
-        let p = m * rel;
+    for (i, ((rec, m), sel)) in objects
+        .iter()
+        .zip(motion.iter_mut())
+        .zip(selections.iter_mut())
+        .enumerate()
+    {
+        let rel = (rec.center - c.cam_pos).as_vec3();
+        let p = c.world_to_eye * rel;
         let d2 = p.length_squared();
-        let r = radius[b];
+        let r = rec.radius;
         let inside = d2 <= r * r;
-        let culled = c.cull & !inside & outside_frustum(c, p, r);
+        if c.cull && !inside && outside_frustum(c, p, r) {
+            *sel = Selection::CULLED;
+            *m = NO_HISTORY;
+            if let Some(b) = budget.as_deref_mut() {
+                b[i].row = u32::MAX;
+            }
+            continue;
+        }
         let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
-        let theta = 2.0 * fastmath::asin_unchecked(fastmath::min(r * inv_d, 1.0)) * RAD_TO_DEG;
-        let theta_deg = if inside { 180.0 } else { theta };
+        let sin_half = fastmath::min(r * inv_d, 1.0);
+        let theta_deg = if inside {
+            180.0
+        } else {
+            2.0 * fastmath::asin_unchecked(sin_half) * RAD_TO_DEG
+        };
         let eccentricity_deg = if ECCENTRICITY {
             let angle_deg =
                 fastmath::acos_unchecked(fastmath::clamp(-p.z * inv_d, -1.0, 1.0)) * RAD_TO_DEG;
@@ -1011,27 +870,22 @@ fn model_stage<const VELOCITY: bool, const ECCENTRICITY: bool>(
         };
         let velocity_deg_per_s = if VELOCITY {
             let dir = p * inv_d;
-            let prev = motion[b];
-            let chord = (dir - prev.dir_eye).length();
-            let step_deg =
-                2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord, 1.0)) * RAD_TO_DEG;
-            let v_now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
-            let smoothed = prev.velocity_deg_per_s + c.alpha * (v_now - prev.velocity_deg_per_s);
-            let kept = if c.dt_valid {
-                smoothed
-            } else {
-                prev.velocity_deg_per_s
-            };
-            let v = if prev.velocity_deg_per_s < 0.0 {
+            let v = if m.velocity_deg_per_s < 0.0 {
                 0.0
+            } else if c.dt_valid {
+                let chord = (dir - m.dir_eye).length();
+                let step_deg =
+                    2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord, 1.0)) * RAD_TO_DEG;
+                let v_now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
+                m.velocity_deg_per_s + c.alpha * (v_now - m.velocity_deg_per_s)
             } else {
-                kept
+                m.velocity_deg_per_s
             };
-            motion[b] = MotionState {
+            *m = MotionState {
                 dir_eye: dir,
-                velocity_deg_per_s: if culled { -1.0 } else { v },
+                velocity_deg_per_s: v,
             };
-            if first_index + b as u32 == c.pursued {
+            if first_index + i as u32 == c.pursued {
                 0.0
             } else {
                 v
@@ -1067,15 +921,35 @@ fn model_stage<const VELOCITY: bool, const ECCENTRICITY: bool>(
         let threshold_cpd = c.scale * fastmath::min(g * m_factor, c.limit_cpd);
         let size_deg = if c.size_on { theta_deg } else { c.fill_deg };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
-        k_out[b] = if inside {
+        let k_cdiam = if inside {
             f32::INFINITY
         } else {
             threshold_cpd * size_deg
         };
-        culled_out[b] = culled;
-        theta_out[b] = theta_deg;
-        ecc_out[b] = eccentricity_deg;
-        vel_out[b] = velocity_deg_per_s;
-        threshold_out[b] = threshold_cpd;
+        let profile = &c.profiles[rec.profile as usize];
+        let n = profile.lod_count - 1;
+        let row = match (&profile.views, NEAREST) {
+            (Some(views), true) => {
+                let to_camera_obj = rec.rotation.conjugate() * (-rel);
+                profile.rows_start + (1 + views.nearest(to_camera_obj)) * n
+            }
+            _ => profile.rows_start,
+        };
+        let lod = count_coarser(&c.rows[row..row + n], k_cdiam);
+        *sel = Selection(lod as u8);
+        if let Some(d) = diagnostics.as_deref_mut() {
+            d[i] = Diagnostics {
+                angular_size_deg: theta_deg,
+                eccentricity_deg,
+                velocity_deg_per_s,
+                threshold_cpd,
+            };
+        }
+        if let Some(b) = budget.as_deref_mut() {
+            b[i] = BudgetEntry {
+                k_cdiam,
+                row: row as u32,
+            };
+        }
     }
 }

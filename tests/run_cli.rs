@@ -132,3 +132,89 @@ fn unknown_policy_and_zero_frames_are_refused() {
     let o = acuity(&["run", s.to_str().unwrap(), "--frames", "0", "--quiet"]);
     assert!(!o.status.success());
 }
+
+#[test]
+fn experiments_run_small_and_write_their_files() {
+    let dir = scratch("experiments");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, TINY).unwrap();
+    let s = scene.to_str().unwrap();
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let profile = [
+        "--profile-resolution",
+        "64",
+        "--profile-viewpoints",
+        "0",
+        "--quiet",
+    ];
+    let runs: [(Vec<String>, &str, &str); 3] = [
+        (
+            [
+                "experiment",
+                "speedup",
+                "--scene",
+                s,
+                "--counts",
+                "3,6",
+                "--trials",
+                "1",
+            ]
+            .iter()
+            .map(|x| x.to_string())
+            .chain(["--frames", "2", "--out"].map(String::from))
+            .chain([out("speedup")])
+            .collect(),
+            "speedup",
+            "speedup.csv",
+        ),
+        (
+            [
+                "experiment",
+                "error",
+                "--scene",
+                s,
+                "--frames",
+                "2",
+                "--flip-every",
+                "1",
+            ]
+            .iter()
+            .map(|x| x.to_string())
+            .chain(["--biases", "1", "--scales", "1,0.5", "--out"].map(String::from))
+            .chain([out("error")])
+            .collect(),
+            "error",
+            "error.csv",
+        ),
+        (
+            [
+                "experiment",
+                "framerate",
+                "--scene",
+                s,
+                "--frames",
+                "4",
+                "--target-hz",
+                "60",
+            ]
+            .iter()
+            .map(|x| x.to_string())
+            .chain(["--out".to_owned(), out("framerate")])
+            .collect(),
+            "framerate",
+            "framerate.csv",
+        ),
+    ];
+    for (mut args, folder, csv) in runs {
+        args.extend(profile.iter().map(|x| x.to_string()));
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = acuity(&refs);
+        assert!(
+            o.status.success(),
+            "{folder}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let text = std::fs::read_to_string(dir.join(folder).join(csv)).unwrap();
+        assert!(text.lines().count() > 1, "{folder}: {text}");
+    }
+}

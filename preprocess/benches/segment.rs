@@ -1,6 +1,7 @@
 //! Benchmarks: CIELUV conversion + region growing, unique-feature
 //! extraction (megapixels/s at 512² and 2048², seeded synthetic images),
-//! one 512² render + readback of a ~4000-triangle LOD, and the paper's
+//! one 512² render + readback of a ~4000-triangle LOD (and of an empty
+//! frame: the part of a frame that is not rasterisation), and the paper's
 //! 4-LOD object at 18 viewpoints end to end.
 
 use std::hint::black_box;
@@ -73,6 +74,13 @@ fn segmentation(c: &mut Criterion) {
             rgba_to_luv(n, n, &a).unwrap(),
             rgba_to_luv(n, n, &b).unwrap(),
         );
+        // The two halves of `luv+grow` alone.
+        g.bench_function(format!("luv_{n}"), |bench| {
+            bench.iter(|| rgba_to_luv(n, n, black_box(&a)).unwrap().luv.len())
+        });
+        g.bench_function(format!("grow_{n}"), |bench| {
+            bench.iter(|| grow_regions(black_box(&la), 2.3).count)
+        });
         g.bench_function(format!("unique_features_{n}"), |bench| {
             bench.iter(|| {
                 unique_features(black_box(&la), black_box(&lb), 2.3, 8)
@@ -97,6 +105,22 @@ fn rendering(c: &mut Criterion) {
     let id = r.upload_mesh(&m).unwrap();
     let mut g = c.benchmark_group("render");
     g.sample_size(20);
+    // The fixed part of a frame: clear, submit, wait, readback of 512².
+    g.bench_function("clear+readback_512_empty", |bench| {
+        bench.iter(|| {
+            r.render(&RenderRequest {
+                width: 512,
+                height: 512,
+                view_proj: cam.view_proj,
+                instances: &[],
+                lighting: Lighting::default(),
+                background_srgb: [0; 3],
+            })
+            .unwrap()
+            .rgba
+            .len()
+        })
+    });
     g.bench_function("render+readback_512_3944tri", |bench| {
         bench.iter(|| {
             r.render(&RenderRequest {

@@ -20,7 +20,7 @@ use anyhow::{Context, bail};
 use super::frames::{LoadOptions, World};
 use super::placement::PlacementSpec;
 use super::plot::{LinePlot, Series, save_line_plot};
-use super::run::{PlaySettings, Player, summarize};
+use super::run::{PlaySettings, Player, Summary, format_table, summarize, write_frames_csv};
 use super::scene::{Policy, Scene};
 
 /// The paper's object counts.
@@ -40,6 +40,312 @@ pub enum Experiment {
     /// Speedup of full acuity over full detail versus object count N, and
     /// the size component's share of the LOD reduction (Reddy 1998 §5.1–5.2).
     Speedup(SpeedupArgs),
+    /// Run time against error: mean frame time and triangles versus mean
+    /// FLIP, for screen size across its bias and acuity across `s`.
+    Error(ErrorArgs),
+    /// A fixed-frame-rate loop (VR-style yaw sweep) under load spikes:
+    /// frames over budget and `s` over time, with and without each
+    /// scheduler.
+    Framerate(FramerateArgs),
+}
+
+/// Arguments of `acuity experiment error`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ErrorArgs {
+    /// The scene.
+    #[arg(long, default_value = "scenes/default.toml")]
+    pub scene: PathBuf,
+    /// Screen-size biases, comma-separated (> 0).
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.25, 0.5, 1.0, 2.0, 4.0])]
+    pub biases: Vec<f64>,
+    /// Acuity scale factors `s`, comma-separated, in (0, 1].
+    #[arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5, 0.25, 0.125, 0.0625])]
+    pub scales: Vec<f64>,
+    /// Frames per configuration, spread over the scene's path.
+    #[arg(long, default_value_t = 30)]
+    pub frames: u32,
+    /// FLIP on every n-th frame (>= 1).
+    #[arg(long, default_value_t = 3)]
+    pub flip_every: u32,
+    /// Options every experiment shares.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// Arguments of `acuity experiment framerate`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FramerateArgs {
+    /// The scene.
+    #[arg(long, default_value = "scenes/vr_sweep.toml")]
+    pub scene: PathBuf,
+    /// Target frame rate, Hz (default: the scene's). A software rasteriser
+    /// cannot reach 90 Hz on this scene; pick a rate it can nearly hold.
+    #[arg(long)]
+    pub target_hz: Option<f64>,
+    /// Frames, spread over the scene's path (default: the scene's).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Extra load during the spikes, as a fraction of the frame budget.
+    #[arg(long, default_value_t = 0.5)]
+    pub spike_load: f64,
+    /// Options every experiment shares.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// Options every experiment shares.
+#[derive(clap::Args, Debug, Clone)]
+pub struct CommonArgs {
+    /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<[u32; 2]>,
+    /// Output folder (default `out/experiment-<name>/`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Image size of profiles that must be made, pixels.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub profile_resolution: u32,
+    /// View-sphere level of profiles that must be made.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub profile_viewpoints: u32,
+    /// Feature-size statistic of profiles that must be made: `longest`
+    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
+    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
+    /// Print no progress lines on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl CommonArgs {
+    fn load(&self, scene_path: &Path) -> anyhow::Result<World> {
+        let mut scene = Scene::load(scene_path)?;
+        if let Some(r) = self.resolution {
+            scene.display.resolution_px = r;
+        }
+        World::load(scene, &self.options())
+    }
+
+    fn options(&self) -> LoadOptions {
+        LoadOptions {
+            cache_dir: self.cache_dir.clone(),
+            verbose: !self.quiet,
+            settings: acuity_preprocess::pipeline::AnalysisSettings {
+                resolution_px: self.profile_resolution,
+                viewpoint_level: self.profile_viewpoints,
+                statistic: self.profile_statistic,
+                ..super::frames::default_analysis_settings()
+            },
+        }
+    }
+
+    fn out_dir(&self, name: &str) -> anyhow::Result<PathBuf> {
+        let out = self
+            .out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(format!("experiment-{name}")));
+        std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+        Ok(out)
+    }
+}
+
+/// Runs the error experiment; writes `error.csv`, `error_time.png` and
+/// `error_triangles.png`; returns the summaries (full detail first).
+pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
+    if args.frames == 0 || args.flip_every == 0 {
+        bail!("--frames and --flip-every need at least 1");
+    }
+    if let Some(b) = args.biases.iter().find(|b| !(b.is_finite() && **b > 0.0)) {
+        bail!("bias {b} is not > 0");
+    }
+    if let Some(s) = args.scales.iter().find(|s| !(**s > 0.0 && **s <= 1.0)) {
+        bail!("scale factor {s} is not in (0, 1]");
+    }
+    let world = args.common.load(&args.scene)?;
+    let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
+    settings.flip_every_n_frames = args.flip_every;
+    settings.keep_images = false;
+    let mut configs = vec![(Policy::Full, 1.0)];
+    configs.extend(args.biases.iter().map(|&b| (Policy::ScreenSize, b)));
+    configs.extend(args.scales.iter().map(|&s| (Policy::AcuityAll, s)));
+    let mut player = Player::new(&world, settings)?;
+    let runs = player.play_configs(&configs, 1.0)?;
+    let sums = summarize(&runs, world.scene.run.budget_s());
+    let out = args.common.out_dir("error")?;
+    let mut csv =
+        String::from("policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95\n");
+    println!(
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8}",
+        "policy", "knob", "mean ms", "p95 ms", "tris/frm", "LOD", "FLIP", "FLIP p95"
+    );
+    for s in &sums {
+        let _ = writeln!(
+            csv,
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6}",
+            s.policy.name(),
+            s.knob,
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.mean_lod,
+            s.flip_mean,
+            s.flip_p95
+        );
+        println!(
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4}",
+            s.policy.name(),
+            s.knob,
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.mean_lod,
+            s.flip_mean,
+            s.flip_p95
+        );
+    }
+    let path = out.join("error.csv");
+    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    let curve = |p: Policy, y: &dyn Fn(&Summary) -> f64| {
+        let mut pts: Vec<(f64, f64)> = sums
+            .iter()
+            .filter(|s| s.policy == p || s.policy == Policy::Full)
+            .map(|s| (s.flip_mean, y(s)))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Series {
+            name: match p {
+                Policy::ScreenSize => "screen size (bias)".into(),
+                _ => "acuity (s)".into(),
+            },
+            points: pts,
+        }
+    };
+    for (file, title, ylabel, y) in [
+        (
+            "error_time.png",
+            "frame time vs FLIP",
+            "mean frame time (ms)",
+            &(|s: &Summary| s.mean_ms) as &dyn Fn(&Summary) -> f64,
+        ),
+        (
+            "error_triangles.png",
+            "triangles vs FLIP",
+            "triangles per frame",
+            &|s: &Summary| s.triangles,
+        ),
+    ] {
+        save_line_plot(
+            &LinePlot {
+                title: title.into(),
+                x_label: "mean FLIP".into(),
+                y_label: ylabel.into(),
+                series: vec![curve(Policy::ScreenSize, y), curve(Policy::AcuityAll, y)],
+                log_x: false,
+                markers: true,
+                y_from_zero: true,
+            },
+            &out.join(file),
+        )?;
+    }
+    if !args.common.quiet {
+        eprintln!(
+            "wrote {} (error.csv, error_time.png, error_triangles.png)",
+            out.display()
+        );
+    }
+    Ok(sums)
+}
+
+/// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
+/// `framerate_time.png` and `framerate_scale.png`; returns the summaries.
+pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
+    if !(args.spike_load.is_finite() && args.spike_load >= 0.0) {
+        bail!("--spike-load must be >= 0");
+    }
+    let mut world = args.common.load(&args.scene)?;
+    if let Some(hz) = args.target_hz {
+        if !(hz.is_finite() && hz > 0.0) {
+            bail!("--target-hz must be > 0");
+        }
+        world.scene.run.target_hz = hz;
+    }
+    let mut settings = PlaySettings::from_scene(&world.scene, args.frames)?;
+    settings.flip_every_n_frames = 0;
+    settings.keep_images = false;
+    // Two spikes, at 25-37.5% and 62.5-75% of the path.
+    let d = f64::from(settings.frames) * settings.dt_s;
+    let extra_ms = args.spike_load * world.scene.run.budget_s() * 1e3;
+    settings.load_spikes = vec![
+        (0.25 * d, 0.375 * d, extra_ms),
+        (0.625 * d, 0.75 * d, extra_ms),
+    ];
+    let policies = [
+        Policy::Full,
+        Policy::AcuityAll,
+        Policy::AcuityReactive,
+        Policy::AcuityPredictive,
+    ];
+    let mut player = Player::new(&world, settings)?;
+    let runs = player.play_all(&policies, 1.0)?;
+    let sums = summarize(&runs, world.scene.run.budget_s());
+    let out = args.common.out_dir("framerate")?;
+    println!(
+        "target {:.1} Hz ({:.2} ms), spikes of +{extra_ms:.2} ms at {:.2}-{:.2} s and {:.2}-{:.2} s",
+        world.scene.run.target_hz,
+        world.scene.run.budget_s() * 1e3,
+        0.25 * d,
+        0.375 * d,
+        0.625 * d,
+        0.75 * d
+    );
+    print!("{}", format_table(&sums));
+    write_frames_csv(&runs, &out.join("framerate.csv"))?;
+    let over_time = |f: &dyn Fn(&super::run::FrameRecord) -> f64| -> Vec<Series> {
+        runs.iter()
+            .map(|r| Series {
+                name: r.policy.name().into(),
+                points: r.frames.iter().map(|x| (x.t_s, f(x))).collect(),
+            })
+            .collect()
+    };
+    let budget_ms = world.scene.run.budget_s() * 1e3;
+    let mut time_series = over_time(&|f| f.frame_ms);
+    time_series.push(Series {
+        name: "budget".into(),
+        points: vec![(0.0, budget_ms), (d, budget_ms)],
+    });
+    save_line_plot(
+        &LinePlot {
+            title: "frame time under load spikes".into(),
+            x_label: "simulated time (s)".into(),
+            y_label: "ms".into(),
+            series: time_series,
+            y_from_zero: true,
+            ..Default::default()
+        },
+        &out.join("framerate_time.png"),
+    )?;
+    save_line_plot(
+        &LinePlot {
+            title: "scale factor s".into(),
+            x_label: "simulated time (s)".into(),
+            y_label: "s".into(),
+            series: over_time(&|f| f64::from(f.scale)),
+            y_from_zero: true,
+            ..Default::default()
+        },
+        &out.join("framerate_scale.png"),
+    )?;
+    if !args.common.quiet {
+        eprintln!(
+            "wrote {} (framerate.csv, framerate_time.png, framerate_scale.png)",
+            out.display()
+        );
+    }
+    Ok(sums)
 }
 
 /// Arguments of `acuity experiment speedup`.
@@ -74,6 +380,10 @@ pub struct SpeedupArgs {
     /// View-sphere level of profiles that must be made.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: u32,
+    /// Feature-size statistic of profiles that must be made: `longest`
+    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
+    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
     /// Print no progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
@@ -125,10 +435,11 @@ impl SpeedupTrial {
 
 /// The share of the LOD reduction (average LOD above 1) that velocity and
 /// eccentricity alone do not achieve, i.e. size's share; NaN when all
-/// criteria reduce nothing.
+/// criteria together lower the average LOD by less than 0.01.
 pub fn size_share(lod_all: f64, lod_ecc_vel: f64) -> f64 {
     let all = lod_all - 1.0;
-    if all > 0.0 {
+    // Below a hundredth of a level the share is noise.
+    if all >= 0.01 {
         1.0 - (lod_ecc_vel - 1.0) / all
     } else {
         f64::NAN
@@ -172,6 +483,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         settings: acuity_preprocess::pipeline::AnalysisSettings {
             resolution_px: args.profile_resolution,
             viewpoint_level: args.profile_viewpoints,
+            statistic: args.profile_statistic,
             ..super::frames::default_analysis_settings()
         },
     };
@@ -334,6 +646,8 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
 pub fn command(args: &ExperimentArgs) -> ExitCode {
     let result = match &args.which {
         Experiment::Speedup(a) => speedup(a).map(|_| ()),
+        Experiment::Error(a) => error(a).map(|_| ()),
+        Experiment::Framerate(a) => framerate(a).map(|_| ()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -97,7 +97,7 @@ mod tests {
         let mut v = Vec::with_capacity((w * h * 4) as usize);
         for y in 0..h {
             for x in 0..w {
-                let check = if ((x + phase) / 4 + y / 4) % 2 == 0 {
+                let check = if ((x + phase) / 4 + y / 4).is_multiple_of(2) {
                     200
                 } else {
                     30

@@ -345,7 +345,7 @@ pub fn render_line_plot(plot: &LinePlot, width: u32, height: u32) -> RgbImage {
         y1 = y0 + 1.0;
     }
     y1 += 0.05 * (y1 - y0);
-    let (left, right, top, bottom) = (70i64, width as i64 - 20, 30i64, height as i64 - 45);
+    let (left, right, top, bottom) = (70i64, width as i64 - 20, 42i64, height as i64 - 45);
     let px = |x: f64| left + ((fx(x) - x0) / (x1 - x0) * (right - left) as f64).round() as i64;
     let py = |y: f64| bottom - ((y - y0) / (y1 - y0) * (bottom - top) as f64).round() as i64;
     let dark = [40, 40, 40];

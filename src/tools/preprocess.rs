@@ -60,7 +60,7 @@ pub struct PreprocessArgs {
     pub path: PathBuf,
     /// LOD triangle targets for a single OBJ, finest first, strictly
     /// decreasing [default: 3928,834,254,76].
-    #[arg(long, value_delimiter = ',', num_args = 1..)]
+    #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
     pub triangles: Option<Vec<u32>>,
     /// Worker threads for the analysis (rayon pool size) [default: one per
     /// CPU core].
@@ -77,15 +77,15 @@ pub struct PreprocessArgs {
     /// and changed pixels.
     #[arg(long, default_value_t = segment::DEFAULT_THRESHOLD_DELTA_E, value_parser = parse_threshold)]
     pub threshold: f32,
-    /// Folder for the profiles (<object>.acp) [default: <folder of
-    /// PATH>/.acuity-cache].
+    /// Folder for the profiles (NAME.acp, one per object) [default:
+    /// .acuity-cache in the folder of PATH].
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write every rendered view and every transition's unique features as
     /// PNGs under this folder (analyses cached objects again).
     #[arg(long)]
     pub inspect: Option<PathBuf>,
-    /// Also write each profile as JSON (<object>.json beside <object>.acp).
+    /// Also write each profile as JSON (NAME.json beside NAME.acp).
     #[arg(long)]
     pub json: bool,
     /// Analyse every object even when its cached profile is up to date.

@@ -156,3 +156,36 @@ pub fn ensure_profile(
     let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
     Ok((profile, CacheOutcome::Analysed))
 }
+
+#[cfg(test)]
+mod tests {
+    use acuity_preprocess::pipeline::TransitionAnalysis;
+
+    use super::*;
+
+    #[test]
+    fn analysis_becomes_a_valid_profile_with_every_feature_counted() {
+        let t = |f: &[f32]| TransitionAnalysis {
+            lowest_cdiam: f.first().copied(),
+            frequencies_cdiam: f.to_vec(),
+        };
+        let analysis = ObjectAnalysis {
+            name: "x".into(),
+            lod_triangles: vec![100, 40, 10],
+            bounding_sphere: ([0.0; 3], 1.5),
+            viewpoints: vec![[0.0, 0.0, 1.0]],
+            // Below the first edge, on an edge, between edges, above the last.
+            transitions: vec![t(&[0.5, 2.0, 3.0, 5000.0]), t(&[])],
+            input_hashes: vec![],
+            warnings: vec![],
+        };
+        let p = profile_from_analysis(&analysis, &AnalysisSettings::default());
+        p.validate().unwrap();
+        assert_eq!(p.transitions[0].histogram.iter().sum::<u32>(), 4);
+        assert_eq!(p.transitions[0].histogram[0], 2);
+        assert_eq!(p.transitions[0].histogram[1], 1);
+        assert_eq!(*p.transitions[0].histogram.last().unwrap(), 1);
+        assert_eq!(p.transitions[1].lowest_cdiam, None);
+        assert!(p.transitions[1].histogram.iter().all(|&c| c == 0));
+    }
+}

@@ -51,6 +51,10 @@ pub struct RunArgs {
     /// 1: 18, 2: 66).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: u32,
+    /// Feature-size statistic of profiles that must be made: `longest`
+    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
+    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
     /// Print no progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
@@ -65,6 +69,17 @@ fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
         _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
     };
     Ok([p(a)?, p(b)?])
+}
+
+/// Parses a feature-size statistic name: `longest`, `mean` or `shortest`.
+pub fn parse_statistic(text: &str) -> Result<acuity_preprocess::FrequencyStatistic, String> {
+    use acuity_preprocess::FrequencyStatistic as F;
+    match text {
+        "longest" => Ok(F::Longest),
+        "mean" => Ok(F::Mean),
+        "shortest" => Ok(F::Shortest),
+        _ => Err(format!("`{text}` is not one of longest, mean, shortest")),
+    }
 }
 
 /// A policy by its scene-file name.
@@ -91,6 +106,11 @@ pub struct PlaySettings {
     pub policies: Vec<Policy>,
     /// Keep each policy's worst-FLIP frame in memory for images.
     pub keep_images: bool,
+    /// Extra load inside the timed frame: `(start_s, end_s, extra_ms)`
+    /// windows of simulated time during which each frame also spins the
+    /// CPU for `extra_ms` milliseconds (a stand-in for a game's logic or
+    /// streaming spikes). Empty by default.
+    pub load_spikes: Vec<(f64, f64, f64)>,
 }
 
 impl PlaySettings {
@@ -109,6 +129,7 @@ impl PlaySettings {
             flip_every_n_frames: run.flip_every_n_frames,
             policies: run.policies.clone(),
             keep_images: true,
+            load_spikes: Vec::new(),
         })
     }
 }
@@ -162,6 +183,9 @@ pub struct WorstFrame {
 pub struct PolicyRun {
     /// The policy.
     pub policy: Policy,
+    /// Its knob: the bias for screen size, the scale factor `s` (a cap
+    /// for the schedulers) for acuity, 1 for full detail.
+    pub knob: f64,
     /// One record per frame.
     pub frames: Vec<FrameRecord>,
     /// The worst-FLIP frame (if images were kept and FLIP was sampled).
@@ -261,24 +285,49 @@ impl<'w> Player<'w> {
         policies: &[Policy],
         screen_size_bias: f64,
     ) -> anyhow::Result<Vec<PolicyRun>> {
-        let world = self.world;
-        let cost = self.calibrate(screen_size_bias)?;
-        let mut runners = policies
+        let s = self.world.scene.run.scale_factor;
+        let configs: Vec<(Policy, f64)> = policies
             .iter()
-            .map(|&p| {
-                let mut r = PolicyRunner::new(world, p, screen_size_bias, cost)?;
-                r.set_scale(world.scene.run.scale_factor as f32);
+            .map(|&p| match p {
+                Policy::Full => (p, 1.0),
+                Policy::ScreenSize => (p, screen_size_bias),
+                _ => (p, s),
+            })
+            .collect();
+        self.play_configs(&configs, screen_size_bias)
+    }
+
+    /// As [`Player::play_all`], each policy with its own knob (see
+    /// [`PolicyRun::knob`]); a policy may appear with several knobs.
+    /// `calibration_bias` is the screen-size bias of the calibration frames.
+    pub fn play_configs(
+        &mut self,
+        configs: &[(Policy, f64)],
+        calibration_bias: f64,
+    ) -> anyhow::Result<Vec<PolicyRun>> {
+        let world = self.world;
+        let cost = self.calibrate(calibration_bias)?;
+        let mut runners = configs
+            .iter()
+            .map(|&(p, knob)| {
+                let bias = if p == Policy::ScreenSize { knob } else { 1.0 };
+                let mut r = PolicyRunner::new(world, p, bias, cost)?;
+                if p != Policy::Full && p != Policy::ScreenSize {
+                    r.set_scale(knob as f32);
+                }
                 Ok(r)
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
-        let mut runs: Vec<PolicyRun> = policies
+        let mut runs: Vec<PolicyRun> = configs
             .iter()
-            .map(|&policy| PolicyRun {
+            .map(|&(policy, knob)| PolicyRun {
                 policy,
+                knob,
                 frames: Vec::with_capacity(self.settings.frames as usize),
                 worst: None,
             })
             .collect();
+        let policies = configs;
         let [w, h] = world.scene.display.resolution_px;
         let ppd = world.pixels_per_degree();
         let mut lods = std::mem::take(&mut self.lods);
@@ -292,6 +341,14 @@ impl<'w> Player<'w> {
                 let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
                 let selected = start.elapsed();
                 let out = world.render(&view, &lods)?;
+                if let Some(&(_, _, ms)) = self
+                    .settings
+                    .load_spikes
+                    .iter()
+                    .find(|(a, b, _)| (*a..*b).contains(&view.t_s))
+                {
+                    spin(start.elapsed().as_secs_f64() + ms * 1e-3, start);
+                }
                 let frame_s = start.elapsed().as_secs_f64();
                 runner.observe(frame_s, out.triangles);
                 let drawn: Vec<usize> = lods.iter().flatten().copied().collect();
@@ -339,6 +396,13 @@ impl<'w> Player<'w> {
     }
 }
 
+/// Busy-waits until `until_s` seconds after `start`.
+fn spin(until_s: f64, start: Instant) {
+    while start.elapsed().as_secs_f64() < until_s {
+        std::hint::spin_loop();
+    }
+}
+
 /// Frames measured by [`Player::calibrate`] (at most; fewer in short runs).
 pub const CALIBRATION_FRAMES: u32 = 8;
 
@@ -347,6 +411,8 @@ pub const CALIBRATION_FRAMES: u32 = 8;
 pub struct Summary {
     /// The policy.
     pub policy: Policy,
+    /// Its knob ([`PolicyRun::knob`]).
+    pub knob: f64,
     /// Mean frame time, milliseconds.
     pub mean_ms: f64,
     /// 95th percentile frame time, milliseconds.
@@ -399,6 +465,7 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
             let n = r.frames.len().max(1) as f64;
             Summary {
                 policy: r.policy,
+                knob: r.knob,
                 mean_ms: ms(r),
                 p95_ms: quantile(&times, 0.95),
                 triangles: tris(r),
@@ -445,10 +512,17 @@ pub fn format_table(summaries: &[Summary]) -> String {
         "s"
     );
     let opt = |v: Option<f64>| v.map_or("-".to_owned(), |v| format!("{v:.2}x"));
+    let flip = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.4}")
+        } else {
+            "-".to_owned()
+        }
+    };
     for s in summaries {
         let _ = writeln!(
             t,
-            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8.4} {:>8.4} {:>6.1} {:>5.2}",
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8} {:>8} {:>6.1} {:>5.2}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -457,8 +531,8 @@ pub fn format_table(summaries: &[Summary]) -> String {
             opt(s.speedup),
             opt(s.triangle_ratio),
             s.mean_lod,
-            s.flip_mean,
-            s.flip_p95,
+            flip(s.flip_mean),
+            flip(s.flip_p95),
             100.0 * s.over_budget,
             s.mean_scale
         );
@@ -530,6 +604,13 @@ pub fn write_side_by_side(
     [w, h]: [u32; 2],
     path: &Path,
 ) -> anyhow::Result<()> {
+    let n = w as usize * h as usize;
+    if reference_rgba.len() != 4 * n
+        || worst.test_rgba.len() != 4 * n
+        || worst.map_rgb.len() != 3 * n
+    {
+        bail!("side-by-side images do not match {w}x{h}");
+    }
     let mut img = RgbImage::new(3 * w, h);
     for y in 0..h {
         for x in 0..w {
@@ -618,6 +699,7 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
         settings: acuity_preprocess::pipeline::AnalysisSettings {
             resolution_px: args.profile_resolution,
             viewpoint_level: args.profile_viewpoints,
+            statistic: args.profile_statistic,
             ..super::frames::default_analysis_settings()
         },
     };
