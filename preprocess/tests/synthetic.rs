@@ -156,3 +156,101 @@ fn gratings_of_known_period_give_one_cycle_per_period() {
         }
     }
 }
+
+#[test]
+fn thickness_of_a_disc_is_its_diameter() {
+    for d in [20.0f32, 31.0, 64.0, 101.0, 180.0] {
+        let f = freqs(|x, y| (x - 127.3).hypot(y - 128.6) <= d / 2.0, Thickness, 8);
+        assert_eq!(f.len(), 1);
+        assert_within(f[0], 1.0 / (2.0 * d), &format!("disc {d} thickness"));
+    }
+}
+
+#[test]
+fn thickness_of_a_bar_is_its_width_at_any_orientation() {
+    // No sampled directions: every orientation, not only K of them.
+    for w in [20.0f32, 24.0, 47.0] {
+        for deg in [
+            0.0f32, 10.0, 22.5, 30.0, 45.0, 60.0, 77.0, 90.0, 135.0, 160.0,
+        ] {
+            let f = freqs(bar(w, 180.0, deg), Thickness, 8);
+            assert_eq!(f.len(), 1, "{w} {deg}");
+            assert_within(
+                f[0],
+                1.0 / (2.0 * w),
+                &format!("bar width {w} at {deg} deg"),
+            );
+        }
+    }
+}
+
+#[test]
+fn thickness_of_thin_bars_is_within_a_pixel() {
+    // Discretisation bound for small widths: rasterised slanted edges move
+    // by up to a pixel, so the width is within 1 px (exact when aligned).
+    for w in [1.0f32, 2.0, 3.0, 5.0, 8.0] {
+        for deg in [0.0f32, 90.0] {
+            let (a, b) = pair(bar(w, 150.0, deg));
+            let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+            assert_eq!(f.len(), 1);
+            assert_eq!(f[0].thickness_px, w, "bar width {w} at {deg} deg");
+        }
+        for deg in [10.0f32, 30.0, 45.0, 77.0, 135.0] {
+            let (a, b) = pair(bar(w.max(2.0), 150.0, deg));
+            let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+            // A 1 px slanted bar breaks into 8-connected steps; w >= 2 stays whole.
+            let t = f.iter().map(|x| x.thickness_px).fold(0.0, f32::max);
+            assert!(
+                (t - w.max(2.0)).abs() <= 1.0,
+                "bar width {w} at {deg} deg: {t}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_ring_is_as_thick_as_its_width_though_its_span_is_its_diameter() {
+    // The silhouette-sliver case: a thin ring spans the whole object in every
+    // direction, so every Feret statistic reports the outer diameter, but
+    // its thickness is the ring's width.
+    let outer = 200.0f32;
+    for w in [20.0f32, 30.0, 45.0] {
+        let ring = |x: f32, y: f32| {
+            let r = (x - 127.3).hypot(y - 128.6);
+            r <= outer / 2.0 && r > outer / 2.0 - w
+        };
+        let f = freqs(ring, Thickness, 8);
+        assert_eq!(f.len(), 1);
+        assert_within(f[0], 1.0 / (2.0 * w), &format!("ring width {w}"));
+        for stat in [Longest, Shortest, Mean] {
+            let f = freqs(ring, stat, 8);
+            assert_within(f[0], 1.0 / (2.0 * outer), &format!("ring span {stat:?}"));
+        }
+    }
+    // Thin rings (the realistic sliver): within a pixel of the width.
+    for w in [2.0f32, 3.0, 5.0, 8.0] {
+        let ring = |x: f32, y: f32| {
+            let r = (x - 127.3).hypot(y - 128.6);
+            r <= outer / 2.0 && r > outer / 2.0 - w
+        };
+        let (a, b) = pair(ring);
+        let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+        assert_eq!(f.len(), 1, "ring {w}");
+        assert!(
+            (f[0].thickness_px - w).abs() <= 1.0,
+            "ring width {w}: {}",
+            f[0].thickness_px
+        );
+    }
+}
+
+#[test]
+fn a_region_touching_the_image_border_is_cut_by_it() {
+    // The border counts as outside: a disc half off the image is measured
+    // by what is on it (its inscribed disc is the half-disc's).
+    let d = 100.0f32;
+    let f = freqs(|x, y| x.hypot(y - 128.0) <= d / 2.0, Thickness, 8);
+    assert_eq!(f.len(), 1);
+    // Largest disc inside a half-disc of radius r has diameter r.
+    assert_within(f[0], 1.0 / (2.0 * d / 2.0), "half disc at border");
+}

@@ -112,7 +112,8 @@ pub struct CommonArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: u32,
     /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    /// (conservative, the offline pass's default), `mean`, `shortest` or
+    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
     #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
     pub profile_statistic: acuity_preprocess::FrequencyStatistic,
     /// Print no progress lines on stderr.
@@ -381,7 +382,8 @@ pub struct SpeedupArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: u32,
     /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    /// (conservative, the offline pass's default), `mean`, `shortest` or
+    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
     #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
     pub profile_statistic: acuity_preprocess::FrequencyStatistic,
     /// Print no progress lines on stderr.

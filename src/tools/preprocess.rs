@@ -77,6 +77,11 @@ pub struct PreprocessArgs {
     /// and changed pixels.
     #[arg(long, default_value_t = segment::DEFAULT_THRESHOLD_DELTA_E, value_parser = parse_threshold)]
     pub threshold: f32,
+    /// Feature-size statistic: `longest` (the conservative default),
+    /// `shortest`, `mean` or `thickness` (diameter of the largest inscribed
+    /// disc: a thin sliver is as fine as its width, however long).
+    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
+    pub statistic: acuity_preprocess::FrequencyStatistic,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
     #[arg(long)]
@@ -270,6 +275,7 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         resolution_px: args.resolution,
         viewpoint_level: args.viewpoints,
         threshold_delta_e: args.threshold,
+        statistic: args.statistic,
         ..AnalysisSettings::default()
     };
     settings

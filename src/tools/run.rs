@@ -52,7 +52,8 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: u32,
     /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean` or `shortest`.
+    /// (conservative, the offline pass's default), `mean`, `shortest` or
+    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
     #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
     pub profile_statistic: acuity_preprocess::FrequencyStatistic,
     /// Print no progress lines on stderr.
@@ -71,14 +72,18 @@ fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
     Ok([p(a)?, p(b)?])
 }
 
-/// Parses a feature-size statistic name: `longest`, `mean` or `shortest`.
+/// Parses a feature-size statistic name: `longest`, `mean`, `shortest` or
+/// `thickness`.
 pub fn parse_statistic(text: &str) -> Result<acuity_preprocess::FrequencyStatistic, String> {
     use acuity_preprocess::FrequencyStatistic as F;
     match text {
         "longest" => Ok(F::Longest),
         "mean" => Ok(F::Mean),
         "shortest" => Ok(F::Shortest),
-        _ => Err(format!("`{text}` is not one of longest, mean, shortest")),
+        "thickness" => Ok(F::Thickness),
+        _ => Err(format!(
+            "`{text}` is not one of longest, mean, shortest, thickness"
+        )),
     }
 }
 
