@@ -17,7 +17,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
-use super::frames::{LoadOptions, World};
+use super::frames::{ProfileArgs, World, parse_resolution};
 use super::placement::PlacementSpec;
 use super::plot::{LinePlot, Series, save_line_plot};
 use super::run::{PlaySettings, Player, Summary, format_table, summarize, write_frames_csv};
@@ -61,6 +61,12 @@ pub struct ErrorArgs {
     /// Acuity scale factors `s`, comma-separated, in (0, 1].
     #[arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5, 0.25, 0.125, 0.0625])]
     pub scales: Vec<f64>,
+    /// Acuity policies swept across `s`, comma-separated: `acuity_size`
+    /// isolates the size criterion, which FLIP (a foveal, gaze-free metric)
+    /// judges fairly; eccentricity and velocity savings count as error in
+    /// FLIP even where a viewer fixating the gaze cannot see them.
+    #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
+    pub acuity_policies: Vec<String>,
     /// Frames per configuration, spread over the scene's path.
     #[arg(long, default_value_t = 30)]
     pub frames: u32,
@@ -102,23 +108,9 @@ pub struct CommonArgs {
     /// Output folder (default `out/experiment-<name>/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// Image size of profiles that must be made, pixels.
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub profile_resolution: u32,
-    /// View-sphere level of profiles that must be made.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
-    pub profile_viewpoints: u32,
-    /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean`, `shortest` or
-    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
-    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
-    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
-    /// Print no progress lines on stderr.
-    #[arg(long)]
-    pub quiet: bool,
+    /// Profiles and progress.
+    #[command(flatten)]
+    pub profiles: ProfileArgs,
 }
 
 impl CommonArgs {
@@ -127,20 +119,7 @@ impl CommonArgs {
         if let Some(r) = self.resolution {
             scene.display.resolution_px = r;
         }
-        World::load(scene, &self.options())
-    }
-
-    fn options(&self) -> LoadOptions {
-        LoadOptions {
-            cache_dir: self.cache_dir.clone(),
-            verbose: !self.quiet,
-            settings: acuity_preprocess::pipeline::AnalysisSettings {
-                resolution_px: self.profile_resolution,
-                viewpoint_level: self.profile_viewpoints,
-                statistic: self.profile_statistic,
-                ..super::frames::default_analysis_settings()
-            },
-        }
+        World::load(scene, &self.profiles.load_options())
     }
 
     fn out_dir(&self, name: &str) -> anyhow::Result<PathBuf> {
@@ -165,27 +144,49 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if let Some(s) = args.scales.iter().find(|s| !(**s > 0.0 && **s <= 1.0)) {
         bail!("scale factor {s} is not in (0, 1]");
     }
+    let mut acuity_policies = Vec::new();
+    for name in &args.acuity_policies {
+        let p = super::run::policy_by_name(name)?;
+        if !p.is_fixed_scale_acuity() {
+            bail!("`{name}` is not an acuity policy with a fixed scale factor");
+        }
+        if !acuity_policies.contains(&p) {
+            acuity_policies.push(p);
+        }
+    }
     let world = args.common.load(&args.scene)?;
     let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
     settings.flip_every_n_frames = args.flip_every;
     settings.keep_images = false;
     let mut configs = vec![(Policy::Full, 1.0)];
     configs.extend(args.biases.iter().map(|&b| (Policy::ScreenSize, b)));
-    configs.extend(args.scales.iter().map(|&s| (Policy::AcuityAll, s)));
+    for &p in &acuity_policies {
+        configs.extend(args.scales.iter().map(|&s| (p, s)));
+    }
     let mut player = Player::new(&world, settings)?;
     let runs = player.play_configs(&configs, 1.0)?;
     let sums = summarize(&runs, world.scene.run.budget_s());
     let out = args.common.out_dir("error")?;
-    let mut csv =
-        String::from("policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95\n");
+    let screen_curve: Vec<(f64, f64)> = sums
+        .iter()
+        .filter(|s| s.policy == Policy::ScreenSize)
+        .map(|s| (s.flip_mean, s.triangles))
+        .collect();
+    let mut csv = String::from(
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95,triangles_vs_screen_size\n",
+    );
     println!(
-        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8}",
-        "policy", "knob", "mean ms", "p95 ms", "tris/frm", "LOD", "FLIP", "FLIP p95"
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>10}",
+        "policy", "knob", "mean ms", "p95 ms", "tris/frm", "LOD", "FLIP", "FLIP p95", "vs screen"
     );
     for s in &sums {
+        let ratio = match s.policy {
+            Policy::Full | Policy::ScreenSize => None,
+            _ => triangles_at_equal_error(&screen_curve, s.flip_mean).map(|t| s.triangles / t),
+        };
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6}",
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6},{}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -193,10 +194,11 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.triangles,
             s.mean_lod,
             s.flip_mean,
-            s.flip_p95
+            s.flip_p95,
+            ratio.map_or(String::new(), |r| format!("{r:.4}"))
         );
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4}",
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4} {:>10}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -204,7 +206,8 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.triangles,
             s.mean_lod,
             s.flip_mean,
-            s.flip_p95
+            s.flip_p95,
+            ratio.map_or("-".to_string(), |r| format!("{r:.2}x"))
         );
     }
     let path = out.join("error.csv");
@@ -219,7 +222,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         Series {
             name: match p {
                 Policy::ScreenSize => "screen size (bias)".into(),
-                _ => "acuity (s)".into(),
+                _ => format!("{} (s)", p.name()),
             },
             points: pts,
         }
@@ -243,7 +246,10 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
                 title: title.into(),
                 x_label: "mean FLIP".into(),
                 y_label: ylabel.into(),
-                series: vec![curve(Policy::ScreenSize, y), curve(Policy::AcuityAll, y)],
+                series: std::iter::once(Policy::ScreenSize)
+                    .chain(acuity_policies.iter().copied())
+                    .map(|p| curve(p, y))
+                    .collect(),
                 log_x: false,
                 markers: true,
                 y_from_zero: true,
@@ -251,13 +257,39 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             &out.join(file),
         )?;
     }
-    if !args.common.quiet {
+    if !args.common.profiles.quiet {
         eprintln!(
             "wrote {} (error.csv, error_time.png, error_triangles.png)",
             out.display()
         );
     }
     Ok(sums)
+}
+
+/// The triangles per frame a policy curve (points of mean FLIP and
+/// triangles, any order) reaches at mean FLIP `flip`, by log-log
+/// interpolation between its two neighbouring points; `None` outside the
+/// curve's FLIP range or where a point has no error or no triangles (no
+/// extrapolation: a comparison at an error the curve never reached is not
+/// measured).
+pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> {
+    let mut pts: Vec<(f64, f64)> = curve
+        .iter()
+        .copied()
+        .filter(|&(f, t)| f > 0.0 && t > 0.0 && f.is_finite() && t.is_finite())
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // NaN and non-positive `flip` fall in no window.
+    pts.windows(2).find_map(|w| {
+        let ((f0, t0), (f1, t1)) = (w[0], w[1]);
+        (f0 <= flip && flip <= f1).then(|| {
+            if f1 == f0 {
+                t0
+            } else {
+                t0 * (t1 / t0).powf((flip / f0).ln() / (f1 / f0).ln())
+            }
+        })
+    })
 }
 
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
@@ -340,7 +372,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         },
         &out.join("framerate_scale.png"),
     )?;
-    if !args.common.quiet {
+    if !args.common.profiles.quiet {
         eprintln!(
             "wrote {} (framerate.csv, framerate_time.png, framerate_scale.png)",
             out.display()
@@ -372,34 +404,9 @@ pub struct SpeedupArgs {
     /// Output folder (default `out/experiment-speedup/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// Image size of profiles that must be made, pixels.
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub profile_resolution: u32,
-    /// View-sphere level of profiles that must be made.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
-    pub profile_viewpoints: u32,
-    /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean`, `shortest` or
-    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
-    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
-    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
-    /// Print no progress lines on stderr.
-    #[arg(long)]
-    pub quiet: bool,
-}
-
-fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
-    let p = |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if (1..=super::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
-    };
-    Ok([p(a)?, p(b)?])
+    /// Profiles and progress.
+    #[command(flatten)]
+    pub profiles: ProfileArgs,
 }
 
 /// One trial of the speedup experiment.
@@ -479,17 +486,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         PlacementSpec::Copies(c) => c.seed,
         PlacementSpec::Transform(_) => 0,
     };
-    let options = LoadOptions {
-        cache_dir: args.cache_dir.clone(),
-        verbose: !args.quiet,
-        settings: acuity_preprocess::pipeline::AnalysisSettings {
-            resolution_px: args.profile_resolution,
-            viewpoint_level: args.profile_viewpoints,
-            statistic: args.profile_statistic,
-            ..super::frames::default_analysis_settings()
-        },
-    };
-    let mut world = World::load(scene.clone(), &options)?;
+    let mut world = World::load(scene.clone(), &args.profiles.load_options())?;
     let mut settings = PlaySettings::from_scene(&scene, Some(args.frames))?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;
@@ -517,7 +514,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
                 lod_all: sums[1].mean_lod + 1.0,
                 lod_ecc_vel: sums[2].mean_lod + 1.0,
             };
-            if !args.quiet {
+            if !args.profiles.quiet {
                 eprintln!(
                     "N={count:<5} seed={seed:<6} speedup {:.2}x time, {:.2}x triangles; LOD all {:.2}, ecc+vel {:.2}",
                     t.speedup_time(),
@@ -583,14 +580,15 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
             table_rows.2[i].1,
             table_rows.3[i].1,
         );
+        let share = size_share(c, d);
+        let share = if share.is_nan() {
+            "none".to_string()
+        } else {
+            format!("{:.0}%", 100.0 * share)
+        };
         println!(
-            "{:>6} {:>13.2}x {:>13.2}x {:>9.2} {:>9.2} {:>9.0}%",
-            args.counts[i],
-            a,
-            b,
-            c,
-            d,
-            100.0 * size_share(c, d)
+            "{:>6} {:>13.2}x {:>13.2}x {:>9.2} {:>9.2} {:>10}",
+            args.counts[i], a, b, c, d, share
         );
     }
     save_line_plot(
@@ -635,7 +633,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         },
         &out.join("average_lod.png"),
     )?;
-    if !args.quiet {
+    if !args.profiles.quiet {
         eprintln!(
             "wrote {} (speedup.csv, speedup.png, average_lod.png)",
             out.display()
@@ -663,6 +661,18 @@ pub fn command(args: &ExperimentArgs) -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn equal_error_interpolates_in_log_log_and_never_extrapolates() {
+        let curve = [(0.04, 10_000.0), (0.01, 40_000.0), (0.0, 90_000.0)];
+        let mid = triangles_at_equal_error(&curve, 0.02).unwrap();
+        assert!((mid - 20_000.0).abs() < 1e-6, "{mid}");
+        assert_eq!(triangles_at_equal_error(&curve, 0.01), Some(40_000.0));
+        assert_eq!(triangles_at_equal_error(&curve, 0.05), None);
+        assert_eq!(triangles_at_equal_error(&curve, 0.005), None);
+        assert_eq!(triangles_at_equal_error(&curve, 0.0), None);
+        assert_eq!(triangles_at_equal_error(&curve, f64::NAN), None);
+    }
 
     #[test]
     fn size_share_is_the_part_ecc_vel_misses() {

@@ -92,6 +92,64 @@ impl Default for LoadOptions {
     }
 }
 
+/// The profile options `acuity run` and the experiments share: where
+/// profiles are cached and how those that must be made are analysed, plus
+/// whether to print progress.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ProfileArgs {
+    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Image size of profiles that must be made, pixels (16..=8192).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub profile_resolution: u32,
+    /// View-sphere level of profiles that must be made (0: 6 viewpoints,
+    /// 1: 18, 2: 66).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub profile_viewpoints: u32,
+    /// Feature-size statistic of profiles that must be made: `longest`
+    /// (conservative, the offline pass's default), `mean`, `shortest` or
+    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
+    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
+    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
+    /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that
+    /// must be made.
+    #[arg(long, default_value_t = acuity_preprocess::segment::DEFAULT_THRESHOLD_DELTA_E)]
+    pub profile_threshold: f32,
+    /// Print no progress lines on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl ProfileArgs {
+    /// The [`LoadOptions`] these arguments describe.
+    pub fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            cache_dir: self.cache_dir.clone(),
+            verbose: !self.quiet,
+            settings: AnalysisSettings {
+                resolution_px: self.profile_resolution,
+                viewpoint_level: self.profile_viewpoints,
+                statistic: self.profile_statistic,
+                threshold_delta_e: self.profile_threshold,
+                ..default_analysis_settings()
+            },
+        }
+    }
+}
+
+/// Parses a `WIDTHxHEIGHT` resolution in pixels (command-line flag).
+pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    let (a, b) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
+    let p = |s: &str| match s.trim().parse::<u32>() {
+        Ok(v) if (1..=super::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
+    };
+    Ok([p(a)?, p(b)?])
+}
+
 /// A loaded scene, ready to play.
 pub struct World {
     /// The scene.

@@ -17,7 +17,7 @@ use anyhow::{Context, bail};
 use image::RgbImage;
 
 use super::flip::{flip_rgba, quantile};
-use super::frames::{FrameView, LoadOptions, World};
+use super::frames::{FrameView, ProfileArgs, World, parse_resolution};
 use super::gaze::Gaze as GazePath;
 use super::plot::{LinePlot, Series, save_line_plot};
 use super::policy::{PolicyRunner, fit_cost_model};
@@ -41,35 +41,9 @@ pub struct RunArgs {
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<[u32; 2]>,
-    /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// Image size of profiles that must be made, pixels (16..=8192).
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub profile_resolution: u32,
-    /// View-sphere level of profiles that must be made (0: 6 viewpoints,
-    /// 1: 18, 2: 66).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
-    pub profile_viewpoints: u32,
-    /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean`, `shortest` or
-    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
-    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
-    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
-    /// Print no progress lines on stderr.
-    #[arg(long)]
-    pub quiet: bool,
-}
-
-fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
-    let p = |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if (1..=super::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
-    };
-    Ok([p(a)?, p(b)?])
+    /// Profiles and progress.
+    #[command(flatten)]
+    pub profiles: ProfileArgs,
 }
 
 /// Parses a feature-size statistic name: `longest`, `mean`, `shortest` or
@@ -698,17 +672,7 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
         }
         scene.run.policies = ps;
     }
-    let options = LoadOptions {
-        cache_dir: args.cache_dir.clone(),
-        verbose: !args.quiet,
-        settings: acuity_preprocess::pipeline::AnalysisSettings {
-            resolution_px: args.profile_resolution,
-            viewpoint_level: args.profile_viewpoints,
-            statistic: args.profile_statistic,
-            ..super::frames::default_analysis_settings()
-        },
-    };
-    World::load(scene, &options)
+    World::load(scene, &args.profiles.load_options())
 }
 
 /// Runs `acuity run`: plays, prints the table and writes every output.
@@ -729,7 +693,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         .unwrap_or_else(|| Path::new("out").join(&name));
     std::fs::create_dir_all(&out_dir).with_context(|| format!("creating {}", out_dir.display()))?;
     let settings = PlaySettings::from_scene(scene, args.frames)?;
-    if !args.quiet {
+    if !args.profiles.quiet {
         eprintln!(
             "{name}: {} instances, {} frames x {} policies at {}x{}, renderer: {}",
             world.instances.len(),
@@ -743,7 +707,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     let mut player = Player::new(&world, settings.clone())?;
     let started = Instant::now();
     let runs = player.play_all(&settings.policies, scene.run.screen_size_bias)?;
-    if !args.quiet {
+    if !args.profiles.quiet {
         eprintln!("played in {:.1} s", started.elapsed().as_secs_f64());
     }
     let summaries = summarize(&runs, scene.run.budget_s());
@@ -758,7 +722,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
             write_side_by_side(&reference, wf, scene.display.resolution_px, &path)?;
         }
     }
-    if !args.quiet {
+    if !args.profiles.quiet {
         eprintln!(
             "wrote {} (frames.csv, summary.csv, frame_time.png, triangles.png, scale.png, flip_*.png: reference | policy | FLIP)",
             out_dir.display()

@@ -335,6 +335,19 @@ impl Policy {
         Policy::AcuityPredictive,
     ];
 
+    /// Whether this is an acuity policy whose scale factor `s` is fixed
+    /// (not set by a scheduler), so it can be swept across `s`.
+    pub fn is_fixed_scale_acuity(self) -> bool {
+        matches!(
+            self,
+            Policy::AcuitySize
+                | Policy::AcuitySizeEcc
+                | Policy::AcuitySizeVel
+                | Policy::AcuityEccVel
+                | Policy::AcuityAll
+        )
+    }
+
     /// The name used in scene files and reports.
     pub fn name(self) -> &'static str {
         match self {
