@@ -182,6 +182,41 @@ fn second_run_is_cached_and_renders_nothing() {
 }
 
 #[test]
+fn scene_profile_settings_apply_and_flags_override_them() {
+    let dir = temp_dir("scene_settings");
+    let scene = write_scene(
+        &dir,
+        "\n[profiles]\nresolution = 96\nviewpoints = 0\nstatistic = \"thickness\"\nthreshold_delta_e = 4.5\n",
+    );
+    let out = dir.join("out");
+    let setting = |key: &str| {
+        let p = Profile::load(out.join("rock.acp")).unwrap();
+        p.settings.get(key).cloned().unwrap_or_default()
+    };
+    let first = acuity(&[s(&scene), "--out", s(&out)]);
+    assert_eq!(first.status.code(), Some(0));
+    assert_eq!(setting("resolution_px"), "96");
+    assert_eq!(setting("viewpoint_level"), "0");
+    assert_eq!(setting("statistic"), "Thickness");
+    assert_eq!(setting("threshold_delta_e"), "4.5");
+    assert_eq!(
+        Profile::load(out.join("rock.acp"))
+            .unwrap()
+            .viewpoints
+            .len(),
+        6
+    );
+
+    // A flag overrides its key only; the changed settings invalidate the cache.
+    let second = acuity(&[s(&scene), "--out", s(&out), "--resolution", "112"]);
+    assert_eq!(second.status.code(), Some(0));
+    assert!(stdout(&second).contains("rock: analysed"));
+    assert_eq!(setting("resolution_px"), "112");
+    assert_eq!(setting("statistic"), "Thickness");
+    assert_eq!(setting("threshold_delta_e"), "4.5");
+}
+
+#[test]
 fn a_changed_input_file_invalidates_only_its_object() {
     let dir = temp_dir("invalidate");
     let scene = write_scene(&dir, "");

@@ -105,6 +105,57 @@ fn vr_sweep_reaches_200_deg_per_s() {
 }
 
 #[test]
+fn profiles_table_is_read_and_flags_override_it() {
+    use acuity::tools::scene::ProfileSpec;
+    use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
+    let text = r#"
+[display]
+resolution = [640, 480]
+fov_deg = [43.6, 33.4]
+
+[[objects]]
+name = "ball"
+procedural = { kind = "sphere", triangles = [320, 80] }
+
+[camera]
+duration_s = 2.0
+forward_speed_m_per_s = 1.0
+
+[profiles]
+statistic = "thickness"
+threshold_delta_e = 8.0
+"#;
+    let scene = Scene::parse(text, "inline.toml").unwrap_or_else(|e| panic!("{e}"));
+    let spec = scene.profiles;
+    assert_eq!(spec.statistic, Some(FrequencyStatistic::Thickness));
+    assert_eq!(spec.threshold_delta_e, Some(8.0));
+    assert_eq!(spec.resolution_px, None);
+    let defaults = AnalysisSettings::default();
+    let settings = spec.analysis_settings();
+    assert_eq!(settings.resolution_px, defaults.resolution_px);
+    assert_eq!(settings.statistic, FrequencyStatistic::Thickness);
+    let flags = ProfileSpec {
+        threshold_delta_e: Some(2.0),
+        resolution_px: Some(256),
+        ..ProfileSpec::default()
+    };
+    let merged = spec.overridden_by(flags).analysis_settings();
+    assert_eq!(merged.threshold_delta_e, 2.0);
+    assert_eq!(merged.resolution_px, 256);
+    assert_eq!(merged.statistic, FrequencyStatistic::Thickness);
+    // Without the table, everything is the offline pass's default.
+    let plain = Scene::parse(
+        &text
+            .replace("[profiles]", "[run]")
+            .replace("statistic = \"thickness\"\nthreshold_delta_e = 8.0", ""),
+        "plain.toml",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.profiles, ProfileSpec::default());
+    assert_eq!(plain.profiles.analysis_settings(), defaults);
+}
+
+#[test]
 fn bad_fixtures_name_field_and_line() {
     let files = fixtures();
     assert!(files.len() >= 20, "{} fixtures", files.len());

@@ -119,7 +119,8 @@ impl CommonArgs {
         if let Some(r) = self.resolution {
             scene.display.resolution_px = r;
         }
-        World::load(scene, &self.profiles.load_options())
+        let options = self.profiles.load_options(&scene.profiles);
+        World::load(scene, &options)
     }
 
     fn out_dir(&self, name: &str) -> anyhow::Result<PathBuf> {
@@ -486,7 +487,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         PlacementSpec::Copies(c) => c.seed,
         PlacementSpec::Transform(_) => 0,
     };
-    let mut world = World::load(scene.clone(), &args.profiles.load_options())?;
+    let mut world = World::load(scene.clone(), &args.profiles.load_options(&scene.profiles))?;
     let mut settings = PlaySettings::from_scene(&scene, Some(args.frames))?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;

@@ -18,7 +18,7 @@ use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 use super::placement::Placement;
 use super::preprocess::object_source;
 use super::profiles::{CacheOutcome, ensure_profile};
-use super::scene::Scene;
+use super::scene::{ProfileSpec, Scene};
 use crate::{Camera, Display, Gaze, Profile, Tracker};
 
 /// Near clipping plane of the player's projection, metres.
@@ -31,14 +31,6 @@ pub const BACKGROUND_SRGB: [u8; 3] = [0, 0, 0];
 /// The analysis settings `acuity run` uses for profiles it has to make:
 /// those of `acuity preprocess` with its default arguments (512 px images
 /// from 18 viewpoints), so the two commands share cached profiles.
-pub fn default_analysis_settings() -> AnalysisSettings {
-    AnalysisSettings {
-        resolution_px: 512,
-        viewpoint_level: 1,
-        ..AnalysisSettings::default()
-    }
-}
-
 /// One object of the world: its LOD meshes on the GPU and its profile.
 #[derive(Debug, Clone)]
 pub struct WorldObject {
@@ -71,8 +63,9 @@ pub struct Instance {
     pub radius_m: f64,
 }
 
-/// Options of [`World::load`].
-#[derive(Debug, Clone)]
+/// Options of [`World::load`]; the default analyses with the offline
+/// pass's default settings.
+#[derive(Debug, Clone, Default)]
 pub struct LoadOptions {
     /// Where profiles are cached; default `<scene dir>/.acuity-cache/`.
     pub cache_dir: Option<PathBuf>,
@@ -80,16 +73,6 @@ pub struct LoadOptions {
     pub settings: AnalysisSettings,
     /// Print progress lines to stderr.
     pub verbose: bool,
-}
-
-impl Default for LoadOptions {
-    fn default() -> Self {
-        Self {
-            cache_dir: None,
-            settings: default_analysis_settings(),
-            verbose: false,
-        }
-    }
 }
 
 /// The profile options `acuity run` and the experiments share: where
@@ -100,40 +83,47 @@ pub struct ProfileArgs {
     /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
-    /// Image size of profiles that must be made, pixels (16..=8192).
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub profile_resolution: u32,
+    /// Image size of profiles that must be made, pixels (16..=8192)
+    /// [default: the scene's `[profiles]`, else 512].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub profile_resolution: Option<u32>,
     /// View-sphere level of profiles that must be made (0: 6 viewpoints,
-    /// 1: 18, 2: 66).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
-    pub profile_viewpoints: u32,
+    /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub profile_viewpoints: Option<u32>,
     /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative, the offline pass's default), `mean`, `shortest` or
-    /// `thickness` (inscribed-disc diameter: coarsens thin slivers).
-    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
-    pub profile_statistic: acuity_preprocess::FrequencyStatistic,
+    /// (conservative), `mean`, `shortest` or `thickness` (inscribed-disc
+    /// diameter: coarsens thin slivers) [default: the scene's `[profiles]`,
+    /// else longest].
+    #[arg(long, value_parser = super::run::parse_statistic)]
+    pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that
-    /// must be made.
-    #[arg(long, default_value_t = acuity_preprocess::segment::DEFAULT_THRESHOLD_DELTA_E)]
-    pub profile_threshold: f32,
+    /// must be made [default: the scene's `[profiles]`, else 2.3].
+    #[arg(long, value_parser = super::preprocess::parse_threshold)]
+    pub profile_threshold: Option<f32>,
     /// Print no progress lines on stderr.
     #[arg(long)]
     pub quiet: bool,
 }
 
 impl ProfileArgs {
-    /// The [`LoadOptions`] these arguments describe.
-    pub fn load_options(&self) -> LoadOptions {
+    /// The settings these flags give (unset flags give `None`).
+    pub fn spec(&self) -> ProfileSpec {
+        ProfileSpec {
+            resolution_px: self.profile_resolution,
+            viewpoint_level: self.profile_viewpoints,
+            statistic: self.profile_statistic,
+            threshold_delta_e: self.profile_threshold,
+        }
+    }
+
+    /// The [`LoadOptions`] for a scene whose `[profiles]` are `scene`: each
+    /// flag given overrides the scene's key.
+    pub fn load_options(&self, scene: &ProfileSpec) -> LoadOptions {
         LoadOptions {
             cache_dir: self.cache_dir.clone(),
             verbose: !self.quiet,
-            settings: AnalysisSettings {
-                resolution_px: self.profile_resolution,
-                viewpoint_level: self.profile_viewpoints,
-                statistic: self.profile_statistic,
-                threshold_delta_e: self.profile_threshold,
-                ..default_analysis_settings()
-            },
+            settings: scene.overridden_by(self.spec()).analysis_settings(),
         }
     }
 }

@@ -40,11 +40,11 @@ use std::time::{Duration, Instant};
 use acuity_preprocess::lods::{self, ProceduralParams};
 use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
 use acuity_preprocess::render::{Renderer, RendererOptions};
-use acuity_preprocess::{segment, views};
+use acuity_preprocess::views;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::profiles;
-use super::scene::{MeshSource, ProceduralKind, Scene};
+use super::scene::{MeshSource, ProceduralKind, ProfileSpec, Scene};
 use crate::Profile;
 
 /// Seed of the procedural generator for scene objects of kind `rock` (the
@@ -66,22 +66,24 @@ pub struct PreprocessArgs {
     /// CPU core].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub jobs: Option<u32>,
-    /// Square rendering size in pixels (16..=8192).
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub resolution: u32,
+    /// Square rendering size in pixels (16..=8192) [default: a scene's
+    /// `[profiles]`, else 512].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub resolution: Option<u32>,
     /// View-sphere subdivision level: 0 -> 6 viewpoints, 1 -> 18, 2 -> 66,
-    /// 3 -> 258, ... (0..=6).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=6))]
-    pub viewpoints: u32,
+    /// 3 -> 258, ... (0..=6) [default: a scene's `[profiles]`, else 1].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
+    pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
-    /// and changed pixels.
-    #[arg(long, default_value_t = segment::DEFAULT_THRESHOLD_DELTA_E, value_parser = parse_threshold)]
-    pub threshold: f32,
-    /// Feature-size statistic: `longest` (the conservative default),
-    /// `shortest`, `mean` or `thickness` (diameter of the largest inscribed
-    /// disc: a thin sliver is as fine as its width, however long).
-    #[arg(long, default_value = "longest", value_parser = super::run::parse_statistic)]
-    pub statistic: acuity_preprocess::FrequencyStatistic,
+    /// and changed pixels [default: a scene's `[profiles]`, else 2.3].
+    #[arg(long, value_parser = parse_threshold)]
+    pub threshold: Option<f32>,
+    /// Feature-size statistic: `longest` (conservative), `shortest`, `mean`
+    /// or `thickness` (diameter of the largest inscribed disc: a thin
+    /// sliver is as fine as its width, however long) [default: a scene's
+    /// `[profiles]`, else longest].
+    #[arg(long, value_parser = super::run::parse_statistic)]
+    pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
     #[arg(long)]
@@ -98,7 +100,8 @@ pub struct PreprocessArgs {
     pub force: bool,
 }
 
-fn parse_threshold(text: &str) -> Result<f32, String> {
+/// Parses a ΔE*uv threshold (command-line flag): finite and > 0.
+pub fn parse_threshold(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
         Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
         _ => Err(format!("`{text}` is not a positive number")),
@@ -182,8 +185,9 @@ pub fn object_source(name: &str, source: &MeshSource) -> Result<ObjectSource, St
     }
 }
 
-/// The objects named by `args.path` and the default profile folder.
-fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf), PreprocessError> {
+/// The objects named by `args.path`, the default profile folder, and a
+/// scene's `[profiles]` (none for an OBJ).
+fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), PreprocessError> {
     let path = &args.path;
     let ext = path
         .extension()
@@ -212,7 +216,7 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf), PreprocessErro
                     source: object_source(&o.name, &o.source),
                 })
                 .collect();
-            Ok((jobs, default_out))
+            Ok((jobs, default_out, scene.profiles))
         }
         Some("obj") => {
             if !path.is_file() {
@@ -242,7 +246,7 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf), PreprocessErro
                     triangle_targets: targets,
                 }),
             };
-            Ok((vec![job], default_out))
+            Ok((vec![job], default_out, ProfileSpec::default()))
         }
         _ => Err(PreprocessError::Usage(format!(
             "{}: expected a scene file (.toml) or an OBJ mesh (.obj)",
@@ -271,17 +275,17 @@ struct Row {
 /// Runs `acuity preprocess`; see the module docs. Per-object results and
 /// the table go to stdout, errors and the progress bar to stderr.
 pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
-    let settings = AnalysisSettings {
+    let (jobs, default_out, scene_spec) = jobs_for(args)?;
+    let flags = ProfileSpec {
         resolution_px: args.resolution,
         viewpoint_level: args.viewpoints,
         threshold_delta_e: args.threshold,
         statistic: args.statistic,
-        ..AnalysisSettings::default()
     };
+    let settings = scene_spec.overridden_by(flags).analysis_settings();
     settings
         .validate()
         .map_err(|e| PreprocessError::Usage(e.to_string()))?;
-    let (jobs, default_out) = jobs_for(args)?;
     let out_dir = args.out.clone().unwrap_or(default_out);
     // Distinct names can share a file name once sanitised ("a b", "a_b").
     let mut seen = std::collections::HashMap::new();

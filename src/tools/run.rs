@@ -672,7 +672,8 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
         }
         scene.run.policies = ps;
     }
-    World::load(scene, &args.profiles.load_options())
+    let options = args.profiles.load_options(&scene.profiles);
+    World::load(scene, &options)
 }
 
 /// Runs `acuity run`: plays, prints the table and writes every output.

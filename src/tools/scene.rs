@@ -1,7 +1,7 @@
 //! Scene files: what a run renders, how the camera and gaze move, and which
 //! LOD policies to compare.
 //!
-//! A scene is a TOML file with five tables. Units are in the key names
+//! A scene is a TOML file with six tables. Units are in the key names
 //! (`_deg`, `_cm`, `_s`, `_m_per_s`, `_hz`); positions are metres in the
 //! world frame of [`super::path`] (right-handed, +Y up, the camera looks
 //! along -Z). Paths to meshes are relative to the scene file.
@@ -44,7 +44,19 @@
 //! policies = ["full", "screen_size", "acuity_all"]
 //! frames = 300                       # or dt_s = 0.0166; default 1 / target_hz
 //! flip_every_n_frames = 10
+//!
+//! [profiles]                         # optional; how the offline pass analyses
+//! resolution = 512                   # pixels per side of each view
+//! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
+//! statistic = "longest"              # "longest" | "mean" | "shortest" | "thickness"
+//! threshold_delta_e = 2.3            # just-noticeable ΔE*uv
 //! ```
+//!
+//! `[profiles]` records how an asset library's profiles are made, so every
+//! command that analyses the scene (`acuity preprocess`, `run`,
+//! `experiment`) makes the same ones; a command-line flag overrides a key,
+//! and a key left out takes the offline pass's default
+//! ([`acuity_preprocess::AnalysisSettings::default`]).
 //!
 //! Unknown keys are errors (so a misspelt key is not silently ignored), and
 //! so are NaN and infinite numbers anywhere in the file. Every error is a
@@ -60,6 +72,7 @@ use std::collections::HashSet;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
 use glam::{DVec2, DVec3};
 use serde::Deserialize;
 use toml::Spanned;
@@ -182,6 +195,46 @@ pub struct Scene {
     pub gaze: GazeSpec,
     /// Run settings.
     pub run: RunSpec,
+    /// How the scene's profiles are made.
+    pub profiles: ProfileSpec,
+}
+
+/// How profiles are made (`[profiles]`, or the matching command-line flags);
+/// `None` leaves a setting at the offline pass's default.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ProfileSpec {
+    /// Side of each rendered view, pixels (16..=8192).
+    pub resolution_px: Option<u32>,
+    /// View-sphere level (0..=6; 0 = 6 viewpoints, 1 = 18, 2 = 66).
+    pub viewpoint_level: Option<u32>,
+    /// Feature-size statistic.
+    pub statistic: Option<FrequencyStatistic>,
+    /// Just-noticeable colour difference, ΔE*uv (finite, > 0).
+    pub threshold_delta_e: Option<f32>,
+}
+
+impl ProfileSpec {
+    /// Each setting from `over` where it has one, else from `self`.
+    pub fn overridden_by(self, over: ProfileSpec) -> ProfileSpec {
+        ProfileSpec {
+            resolution_px: over.resolution_px.or(self.resolution_px),
+            viewpoint_level: over.viewpoint_level.or(self.viewpoint_level),
+            statistic: over.statistic.or(self.statistic),
+            threshold_delta_e: over.threshold_delta_e.or(self.threshold_delta_e),
+        }
+    }
+
+    /// The offline pass's settings: these values over its defaults.
+    pub fn analysis_settings(&self) -> AnalysisSettings {
+        let d = AnalysisSettings::default();
+        AnalysisSettings {
+            resolution_px: self.resolution_px.unwrap_or(d.resolution_px),
+            viewpoint_level: self.viewpoint_level.unwrap_or(d.viewpoint_level),
+            statistic: self.statistic.unwrap_or(d.statistic),
+            threshold_delta_e: self.threshold_delta_e.unwrap_or(d.threshold_delta_e),
+            ..d
+        }
+    }
 }
 
 /// The display: resolution and field of view.
@@ -459,6 +512,8 @@ struct RawScene {
     gaze: Option<RawGaze>,
     #[serde(default)]
     run: Option<RawRun>,
+    #[serde(default)]
+    profiles: Option<RawProfiles>,
 }
 
 #[derive(Deserialize)]
@@ -605,6 +660,15 @@ struct RawRun {
     scale_factor: Option<f64>,
 }
 
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawProfiles {
+    resolution: Option<u32>,
+    viewpoints: Option<u32>,
+    statistic: Option<String>,
+    threshold_delta_e: Option<f32>,
+}
+
 // ---------------------------------------------------------------------------
 // Parsing and validation
 
@@ -722,6 +786,7 @@ impl<'t> Ctx<'t> {
         let camera = self.camera(raw.camera)?;
         let gaze = self.gaze(raw.gaze.unwrap_or_default(), &objects)?;
         let run = self.run(raw.run.unwrap_or_default(), camera.duration_s)?;
+        let profiles = self.profiles(raw.profiles.unwrap_or_default())?;
         Ok(Scene {
             source_path: self.path.clone(),
             display,
@@ -729,6 +794,43 @@ impl<'t> Ctx<'t> {
             camera,
             gaze,
             run,
+            profiles,
+        })
+    }
+
+    fn profiles(&self, p: RawProfiles) -> Res<ProfileSpec> {
+        if let Some(r) = p.resolution
+            && !(16..=8192).contains(&r)
+        {
+            return Err(self.invalid(
+                "profiles.resolution",
+                format!("{r} pixels is outside 16..=8192"),
+            ));
+        }
+        let max_level = acuity_preprocess::views::MAX_VIEWPOINT_LEVEL;
+        if let Some(v) = p.viewpoints
+            && v > max_level
+        {
+            return Err(self.invalid(
+                "profiles.viewpoints",
+                format!("level {v} is above {max_level}"),
+            ));
+        }
+        if let Some(t) = p.threshold_delta_e
+            && !(t > 0.0)
+        {
+            return Err(self.invalid("profiles.threshold_delta_e", format!("{t} must be > 0")));
+        }
+        let statistic = p
+            .statistic
+            .map(|s| super::run::parse_statistic(&s))
+            .transpose()
+            .map_err(|reason| self.invalid("profiles.statistic", reason))?;
+        Ok(ProfileSpec {
+            resolution_px: p.resolution,
+            viewpoint_level: p.viewpoints,
+            statistic,
+            threshold_delta_e: p.threshold_delta_e,
         })
     }
 
