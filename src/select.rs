@@ -6,18 +6,29 @@
 //! removed features (transitions `0..j` at the chosen viewpoint) all lie
 //! above `T`: a feature of `f` c/diam shows at `f / theta` c/deg, so LOD `j`
 //! is invisible when the prefix minimum of those frequencies exceeds
-//! `T * theta`. Prefix minima are precomputed per viewpoint, which makes the
-//! choice a count of comparisons.
+//! `T * theta`. Prefix minima are precomputed per viewpoint, in rows padded
+//! with `-inf` to whole groups of 4, which makes the choice a count of
+//! 4-wide comparisons.
 //!
-//! Layout. Objects with more than one LOD live in a dense array of 48-byte
-//! records (`f64` centre, radius, profile, rotation) with their motion
-//! state and outputs in parallel arrays; objects with one LOD live apart and
-//! are only culled (or not touched at all with culling off). The loop is
-//! monomorphised over the velocity, eccentricity and nearest-viewpoint
-//! switches, so a switched-off component costs nothing, uses branch-free
-//! polynomial `asin`/`acos`/`log10` ([`crate::fastmath`]), allocates
-//! nothing, and runs on rayon (feature `parallel`) above
+//! Layout. Objects with more than one LOD live in blocks of 32, field by
+//! field within a block (`f64` centre coordinates, radius, profile index,
+//! rotation), with their motion state in matching blocks and their outputs
+//! in flat arrays; objects with one LOD live apart and are only culled (or
+//! not touched at all with culling off). Each block is first culled as a
+//! whole, branch-free (the camera-relative centre is taken in `f64` and then
+//! rounded to `f32`, so far-off scenes select like scenes at the origin);
+//! the visible objects go to a queue, and every 32 or more of them are
+//! modelled together in short passes over plain arrays that the compiler
+//! vectorises (branch-free polynomial `asin`/`acos`/`log10`,
+//! [`crate::fastmath`]), followed by the per-object viewpoint lookup and LOD
+//! count. Profiles with the same viewpoints share one lookup table. The loop
+//! is monomorphised over the velocity, eccentricity and nearest-viewpoint
+//! switches, so a switched-off component costs nothing, allocates nothing,
+//! and runs on rayon (feature `parallel`) above
 //! [`SelectorSettings::parallel_min_objects`].
+
+// Index loops over parallel fixed-size arrays are what vectorises here.
+#![allow(clippy::needless_range_loop)]
 
 use glam::{DVec3, Mat3, Quat, Vec3};
 
@@ -30,10 +41,17 @@ use crate::display::Display;
 use crate::error::{Error, Result};
 use crate::fastmath;
 use crate::profile::Profile;
-use crate::viewpoints::ViewpointLookup;
+use crate::viewpoints::{self, ViewpointLookup};
 
-/// Objects per parallel work item.
+/// Objects per block of the store.
+const BLOCK: usize = 32;
+/// Capacity of the queue of visible objects: fewer than a block waiting,
+/// plus one block.
+const QUEUE: usize = 2 * BLOCK;
+/// Objects per parallel work item; a whole number of blocks.
 const CHUNK: usize = 4096;
+/// [`ProfileRows::lookup`] of a profile without viewpoint lookup.
+const NO_LOOKUP: u32 = u32::MAX;
 /// Retinal velocities are capped here, deg/s: far beyond the model's
 /// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
 pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
@@ -166,27 +184,43 @@ pub struct BudgetOutcome {
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,
 }
-
-#[derive(Clone, Copy, Debug)]
-#[repr(C)]
-struct ObjectRecord {
-    center: DVec3,
-    radius: f32,
-    profile: u32,
-    rotation: Quat,
+/// 32 objects with more than one LOD, field by field. Lanes past the last
+/// object of the last block are padding, never read.
+#[derive(Clone, Debug)]
+struct Block {
+    /// Centre of the bounding sphere, world units.
+    x: [f64; BLOCK],
+    y: [f64; BLOCK],
+    z: [f64; BLOCK],
+    /// Radius of the bounding sphere, world units.
+    radius: [f32; BLOCK],
+    /// Index into the selector's profiles.
+    profile: [u32; BLOCK],
+    /// Rotation from the object's frame to the world, normalised.
+    rotation: [Quat; BLOCK],
 }
 
-#[derive(Clone, Copy, Debug, Default)]
-struct MotionState {
-    /// Direction to the object in the eye's frame, last frame.
-    dir_eye: Vec3,
+const EMPTY_BLOCK: Block = Block {
+    x: [0.0; BLOCK],
+    y: [0.0; BLOCK],
+    z: [0.0; BLOCK],
+    radius: [0.0; BLOCK],
+    profile: [0; BLOCK],
+    rotation: [Quat::IDENTITY; BLOCK],
+};
+
+/// The motion state of a block's objects.
+#[derive(Clone, Debug)]
+struct MotionBlock {
+    /// Direction to the object in the eye's frame last frame (x, y, z).
+    dir_eye: [[f32; BLOCK]; 3],
     /// Smoothed retinal velocity, deg/s; negative: no history yet.
-    velocity_deg_per_s: f32,
+    velocity_deg_per_s: [f32; BLOCK],
 }
 
-const NO_HISTORY: MotionState = MotionState {
-    dir_eye: Vec3::ZERO,
-    velocity_deg_per_s: -1.0,
+const NO_HISTORY: MotionBlock = MotionBlock {
+    dir_eye: [[0.0; BLOCK]; 3],
+    velocity_deg_per_s: [-1.0; BLOCK],
 };
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -201,10 +235,18 @@ struct BudgetEntry {
 #[derive(Clone, Debug)]
 struct CompiledProfile {
     lod_count: usize,
-    /// Row 0: worst case over viewpoints; row `1 + v`: viewpoint `v`.
-    rows_start: usize,
-    views: Option<ViewpointLookup>,
     triangles: Vec<u32>,
+}
+
+/// Where a profile's prefix-minimum rows lie in [`Selector::rows`]: row 0
+/// is the worst case over viewpoints, row `1 + v` viewpoint `v`; each has
+/// `lod_count - 1` entries padded with `-inf` to `stride`, a multiple of 4.
+#[derive(Clone, Copy, Debug)]
+struct ProfileRows {
+    start: u32,
+    stride: u32,
+    /// Index into [`Selector::lookups`], or [`NO_LOOKUP`] for one viewpoint.
+    lookup: u32,
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -237,9 +279,15 @@ pub struct Selector {
     display: Display,
     settings: SelectorSettings,
     profiles: Vec<CompiledProfile>,
+    profile_rows: Vec<ProfileRows>,
+    /// Viewpoint lookups, one per distinct viewpoint set.
+    lookups: Vec<ViewpointLookup>,
     rows: Vec<f32>,
-    objects: Vec<ObjectRecord>,
-    motion: Vec<MotionState>,
+    /// Objects with more than one LOD: object `i` is lane `i % 32` of
+    /// block `i / 32`.
+    blocks: Vec<Block>,
+    motion: Vec<MotionBlock>,
+    /// One per object with more than one LOD (so also their count).
     selections: Vec<Selection>,
     diagnostics: Vec<Diagnostics>,
     budget: Vec<BudgetEntry>,
@@ -270,7 +318,8 @@ struct FrameConsts<'a> {
     alpha: f32,
     pursued: u32,
     rows: &'a [f32],
-    profiles: &'a [CompiledProfile],
+    profiles: &'a [ProfileRows],
+    lookups: &'a [ViewpointLookup],
 }
 
 impl Selector {
@@ -280,8 +329,10 @@ impl Selector {
             display,
             settings,
             profiles: Vec::new(),
+            profile_rows: Vec::new(),
+            lookups: Vec::new(),
             rows: Vec::new(),
-            objects: Vec::new(),
+            blocks: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
             diagnostics: Vec::new(),
@@ -308,36 +359,52 @@ impl Selector {
     }
 
     /// Adds a profile (validated again here) and precomputes its prefix
-    /// minima and viewpoint lookup.
+    /// minima and viewpoint lookup (shared with earlier profiles that have
+    /// the same viewpoints).
     pub fn add_profile(&mut self, profile: &Profile) -> Result<ProfileId> {
         profile.validate()?;
         let n = profile.transitions_per_view();
-        let rows_start = self.rows.len();
-        let mut worst = vec![f32::INFINITY; n];
-        let mut view_rows = Vec::with_capacity(profile.viewpoints.len() * n);
-        for v in 0..profile.viewpoints.len() {
+        let stride = n.next_multiple_of(4);
+        let start = self.rows.len();
+        let views = profile.viewpoints.len();
+        let mut rows = vec![f32::NEG_INFINITY; (1 + views) * stride];
+        rows[..n].fill(f32::INFINITY);
+        for v in 0..views {
             let mut running = f32::INFINITY;
             for (t, tr) in profile.view_transitions(v).iter().enumerate() {
                 running = running.min(tr.lowest_cdiam.unwrap_or(f32::INFINITY));
-                view_rows.push(running);
-                worst[t] = worst[t].min(running);
+                rows[(1 + v) * stride + t] = running;
+                rows[t] = rows[t].min(running);
             }
         }
-        self.rows.extend_from_slice(&worst);
-        self.rows.extend_from_slice(&view_rows);
-        let views = (profile.viewpoints.len() > 1 && n > 0).then(|| {
-            ViewpointLookup::new(
-                profile
-                    .viewpoints
-                    .iter()
-                    .map(|v| Vec3::from_array(*v).normalize())
-                    .collect(),
-            )
+        self.rows.extend_from_slice(&rows);
+        let lookup = if views > 1 && n > 0 {
+            let directions: Vec<Vec3> = profile
+                .viewpoints
+                .iter()
+                .map(|v| Vec3::from_array(*v).normalize())
+                .collect();
+            match self
+                .lookups
+                .iter()
+                .position(|l| l.directions() == directions)
+            {
+                Some(i) => i as u32,
+                None => {
+                    self.lookups.push(ViewpointLookup::new(directions));
+                    self.lookups.len() as u32 - 1
+                }
+            }
+        } else {
+            NO_LOOKUP
+        };
+        self.profile_rows.push(ProfileRows {
+            start: start as u32,
+            stride: stride as u32,
+            lookup,
         });
         self.profiles.push(CompiledProfile {
             lod_count: profile.lod_count(),
-            rows_start,
-            views,
             triangles: profile.lod_triangles.clone(),
         });
         Ok(ProfileId(self.profiles.len() as u32 - 1))
@@ -362,19 +429,24 @@ impl Selector {
             self.single_selections.push(Selection(0));
             return Ok(ObjectId(SINGLE_LOD_BIT | (self.singles.len() as u32 - 1)));
         }
-        if self.objects.len() as u32 >= SINGLE_LOD_BIT - 1 {
+        let i = self.selections.len();
+        if i as u32 >= SINGLE_LOD_BIT - 1 {
             return Err(Error::invalid("objects", "more than 2^31 objects"));
         }
-        self.objects.push(ObjectRecord {
-            center,
-            radius,
-            profile: desc.profile.0,
-            rotation,
-        });
-        self.motion.push(NO_HISTORY);
+        if i.is_multiple_of(BLOCK) {
+            self.blocks.push(EMPTY_BLOCK);
+            self.motion.push(NO_HISTORY);
+        }
+        let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
+        block.x[lane] = center.x;
+        block.y[lane] = center.y;
+        block.z[lane] = center.z;
+        block.radius[lane] = radius;
+        block.profile[lane] = desc.profile.0;
+        block.rotation[lane] = rotation;
         self.selections.push(Selection(0));
         self.diagnostics.push(Diagnostics::default());
-        Ok(ObjectId(self.objects.len() as u32 - 1))
+        Ok(ObjectId(i as u32))
     }
 
     /// Moves an object. Its velocity history is kept: the motion shows up
@@ -385,9 +457,12 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].center = center;
         } else {
-            let rec = &mut self.objects[id.0 as usize];
-            rec.center = center;
-            rec.rotation = rotation;
+            let i = id.0 as usize;
+            let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
+            block.x[lane] = center.x;
+            block.y[lane] = center.y;
+            block.z[lane] = center.z;
+            block.rotation[lane] = rotation;
         }
         Ok(())
     }
@@ -404,25 +479,25 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].radius = radius;
         } else {
-            self.objects[id.0 as usize].radius = radius;
+            let i = id.0 as usize;
+            self.blocks[i / BLOCK].radius[i % BLOCK] = radius;
         }
         Ok(())
     }
 
     fn radius(&self, id: ObjectId) -> Result<f32> {
+        let i = (id.0 & !SINGLE_LOD_BIT) as usize;
         let r = if id.0 & SINGLE_LOD_BIT != 0 {
-            self.singles
-                .get((id.0 & !SINGLE_LOD_BIT) as usize)
-                .map(|s| s.radius)
+            self.singles.get(i).map(|s| s.radius)
         } else {
-            self.objects.get(id.0 as usize).map(|o| o.radius)
+            (i < self.selections.len()).then(|| self.blocks[i / BLOCK].radius[i % BLOCK])
         };
         r.ok_or_else(|| Error::invalid("id", format!("{id:?} is not in this selector")))
     }
 
     /// Number of objects, single-LOD ones included.
     pub fn object_count(&self) -> usize {
-        self.objects.len() + self.singles.len()
+        self.selections.len() + self.singles.len()
     }
 
     /// The selection of an object from the last `select*` call (LOD 0
@@ -445,13 +520,9 @@ impl Selector {
     /// Triangles drawn with the current selections (culled objects: 0).
     pub fn triangles(&self) -> u64 {
         let multi: u64 = self
-            .objects
-            .iter()
+            .object_profiles()
             .zip(&self.selections)
-            .filter_map(|(o, s)| {
-                s.lod()
-                    .map(|l| self.profiles[o.profile as usize].triangles[l] as u64)
-            })
+            .filter_map(|(p, s)| s.lod().map(|l| self.profiles[p].triangles[l] as u64))
             .sum();
         multi + self.single_triangles()
     }
@@ -463,6 +534,14 @@ impl Selector {
             .filter(|(_, s)| !s.is_culled())
             .map(|(o, _)| o.triangles as u64)
             .sum()
+    }
+
+    /// The profile index of each object with more than one LOD, in order.
+    fn object_profiles(&self) -> impl Iterator<Item = usize> + '_ {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.profile.iter().map(|&p| p as usize))
+            .take(self.selections.len())
     }
 }
 
@@ -521,7 +600,7 @@ impl Selector {
         triangle_budget: u64,
     ) -> Result<BudgetOutcome> {
         self.budget
-            .resize(self.objects.len(), BudgetEntry::default());
+            .resize(self.selections.len(), BudgetEntry::default());
         let s_max = checked_scale(frame.scale)?;
         self.run(frame, 1.0, Extra::Budget)?;
         let fixed = self.single_triangles();
@@ -533,11 +612,11 @@ impl Selector {
             let (lo, hi) = (s_min.ln(), s_max.ln());
             let width = ((hi - lo) / BINS as f32).max(f32::MIN_POSITIVE);
             let mut saved = [0u64; BINS];
-            for (entry, rec) in self.budget.iter().zip(&self.objects) {
+            for (entry, p) in self.budget.iter().zip(self.object_profiles()) {
                 if entry.row == u32::MAX {
                     continue;
                 }
-                let p = &self.profiles[rec.profile as usize];
+                let p = &self.profiles[p];
                 let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
                 for (j, &f) in row.iter().enumerate() {
                     // LOD > j exactly when s < f / k.
@@ -579,10 +658,10 @@ impl Selector {
     fn triangles_at(&self, scale: f32) -> u64 {
         self.budget
             .iter()
-            .zip(&self.objects)
+            .zip(self.object_profiles())
             .filter(|(e, _)| e.row != u32::MAX)
-            .map(|(e, rec)| {
-                let p = &self.profiles[rec.profile as usize];
+            .map(|(e, p)| {
+                let p = &self.profiles[p];
                 let lod = count_coarser(
                     &self.rows[e.row as usize..][..p.lod_count - 1],
                     scale * e.k_cdiam,
@@ -593,16 +672,15 @@ impl Selector {
     }
 
     fn apply_budget_scale(&mut self, scale: f32) {
-        for ((e, rec), sel) in self
-            .budget
+        let profiles = self
+            .blocks
             .iter()
-            .zip(&self.objects)
-            .zip(&mut self.selections)
-        {
+            .flat_map(|b| b.profile.iter().map(|&p| p as usize));
+        for ((e, p), sel) in self.budget.iter().zip(profiles).zip(&mut self.selections) {
             if e.row == u32::MAX {
                 continue;
             }
-            let n = self.profiles[rec.profile as usize].lod_count - 1;
+            let n = self.profiles[p].lod_count - 1;
             *sel = Selection(
                 count_coarser(&self.rows[e.row as usize..][..n], scale * e.k_cdiam) as u8,
             );
@@ -654,7 +732,8 @@ impl Selector {
             alpha,
             pursued,
             rows: &self.rows,
-            profiles: &self.profiles,
+            profiles: &self.profile_rows,
+            lookups: &self.lookups,
         };
         let comps = self.settings.components;
         let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
@@ -675,7 +754,7 @@ impl Selector {
         };
         dispatch(
             &c,
-            &self.objects,
+            &self.blocks,
             &mut self.motion,
             outputs,
             kernel,
@@ -709,18 +788,18 @@ struct Outputs<'a> {
     budget: Option<&'a mut [BudgetEntry]>,
 }
 
-type Kernel = fn(&FrameConsts<'_>, &[ObjectRecord], &mut [MotionState], u32, Outputs<'_>);
+type Kernel = fn(&FrameConsts<'_>, &[Block], &mut [MotionBlock], u32, Outputs<'_>);
 
 fn dispatch(
     c: &FrameConsts<'_>,
-    objects: &[ObjectRecord],
-    motion: &mut [MotionState],
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
     out: Outputs<'_>,
     kernel: Kernel,
     parallel_min: usize,
 ) {
     #[cfg(feature = "parallel")]
-    if objects.len() >= parallel_min.max(2 * CHUNK) {
+    if out.selections.len() >= parallel_min.max(2 * CHUNK) {
         use rayon::prelude::*;
         let Outputs {
             selections,
@@ -729,9 +808,9 @@ fn dispatch(
         } = out;
         let diag_iter = diagnostics.map(|d| d.par_chunks_mut(CHUNK));
         let budget_iter = budget.map(|b| b.par_chunks_mut(CHUNK));
-        let base = objects
-            .par_chunks(CHUNK)
-            .zip(motion.par_chunks_mut(CHUNK))
+        let base = blocks
+            .par_chunks(CHUNK / BLOCK)
+            .zip(motion.par_chunks_mut(CHUNK / BLOCK))
             .zip(selections.par_chunks_mut(CHUNK))
             .enumerate();
         match (diag_iter, budget_iter) {
@@ -778,7 +857,7 @@ fn dispatch(
         return;
     }
     let _ = parallel_min;
-    kernel(c, objects, motion, 0, out);
+    kernel(c, blocks, motion, 0, out);
 }
 
 /// Whether a sphere at `p` (eye frame) of radius `r` lies wholly outside a
@@ -822,11 +901,100 @@ fn count_coarser(prefix_min_cdiam: &[f32], k_cdiam: f32) -> usize {
         .sum()
 }
 
+/// [`count_coarser`] over a row padded with `-inf` to groups of 4: one
+/// 4-wide comparison and count per group.
+#[inline(always)]
+fn count_coarser_padded(row: &[f32], k_cdiam: f32) -> usize {
+    row.chunks_exact(4)
+        .map(|g| {
+            let g: [f32; 4] = g.try_into().unwrap_or([f32::NEG_INFINITY; 4]);
+            g.map(|f| (f > k_cdiam) as u32).iter().sum::<u32>() as usize
+        })
+        .sum()
+}
+
+/// A block after culling, in the eye's frame.
+struct Culled {
+    /// Centre minus camera position, world axes (x, y, z).
+    rel: [[f32; BLOCK]; 3],
+    /// Centre in the eye's frame (x, y, z).
+    p: [[f32; BLOCK]; 3],
+    /// Squared distance.
+    d2: [f32; BLOCK],
+    /// 1 where visible, 0 where culled.
+    visible: [u32; BLOCK],
+}
+
+/// The visible objects waiting to be modelled: indices within the work
+/// item and what the cull pass computed for them.
+struct Queue {
+    len: usize,
+    index: [u32; QUEUE],
+    rel: [[f32; QUEUE]; 3],
+    p: [[f32; QUEUE]; 3],
+    d2: [f32; QUEUE],
+    radius: [f32; QUEUE],
+    /// Last frame's direction and velocity (with the velocity component).
+    dir_before: [[f32; QUEUE]; 3],
+    velocity_before: [f32; QUEUE],
+}
+
+/// The model's results for the queue.
+struct Modelled {
+    theta_deg: [f32; QUEUE],
+    inv_d: [f32; QUEUE],
+    eccentricity_deg: [f32; QUEUE],
+    /// This frame's direction and smoothed velocity (the motion state).
+    dir: [[f32; QUEUE]; 3],
+    velocity: [f32; QUEUE],
+    /// The velocity the model uses (0 for the pursued object).
+    seen_velocity: [f32; QUEUE],
+    threshold_cpd: [f32; QUEUE],
+    k_cdiam: [f32; QUEUE],
+}
+
+/// Culls a block: branch-free over all 32 lanes, so it vectorises.
+#[inline(always)]
+fn cull_block<const CULL: bool>(c: &FrameConsts<'_>, b: &Block, out: &mut Culled) {
+    let [cx, cy, cz] = c.cam_pos.to_array();
+    let m = c.world_to_eye;
+    let [n0, n1, n2, n3] = c.planes_eye;
+    let f = c.forward_eye;
+    for i in 0..BLOCK {
+        let rx = (b.x[i] - cx) as f32;
+        let ry = (b.y[i] - cy) as f32;
+        let rz = (b.z[i] - cz) as f32;
+        // The operations of `Mat3 * Vec3` and `Vec3::dot`, in their order.
+        let px = m.x_axis.x * rx + m.y_axis.x * ry + m.z_axis.x * rz;
+        let py = m.x_axis.y * rx + m.y_axis.y * ry + m.z_axis.y * rz;
+        let pz = m.x_axis.z * rx + m.y_axis.z * ry + m.z_axis.z * rz;
+        let d2 = px * px + py * py + pz * pz;
+        let r = b.radius[i];
+        out.rel[0][i] = rx;
+        out.rel[1][i] = ry;
+        out.rel[2][i] = rz;
+        out.p[0][i] = px;
+        out.p[1][i] = py;
+        out.p[2][i] = pz;
+        out.d2[i] = d2;
+        out.visible[i] = if CULL {
+            let dot = |n: Vec3| n.x * px + n.y * py + n.z * pz;
+            let outside = fastmath::max(
+                fastmath::max(dot(n0), dot(n1)),
+                fastmath::max(fastmath::max(dot(n2), dot(n3)), -dot(f)),
+            ) > r;
+            (d2 <= r * r || !outside) as u32
+        } else {
+            1
+        };
+    }
+}
+
 #[inline(always)]
 fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     c: &FrameConsts<'_>,
-    objects: &[ObjectRecord],
-    motion: &mut [MotionState],
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
     first_index: u32,
     out: Outputs<'_>,
 ) {
@@ -835,67 +1003,168 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         mut diagnostics,
         mut budget,
     } = out;
-    for (i, ((rec, m), sel)) in objects
-        .iter()
-        .zip(motion.iter_mut())
-        .zip(selections.iter_mut())
-        .enumerate()
-    {
-        let rel = (rec.center - c.cam_pos).as_vec3();
-        let p = c.world_to_eye * rel;
-        let d2 = p.length_squared();
-        let r = rec.radius;
-        let inside = d2 <= r * r;
-        if c.cull && !inside && outside_frustum(c, p, r) {
-            *sel = Selection::CULLED;
-            *m = NO_HISTORY;
-            if let Some(b) = budget.as_deref_mut() {
-                b[i].row = u32::MAX;
-            }
-            continue;
+    let pursued = c.pursued.wrapping_sub(first_index);
+    let mut culled = Culled {
+        rel: [[0.0; BLOCK]; 3],
+        p: [[0.0; BLOCK]; 3],
+        d2: [0.0; BLOCK],
+        visible: [0; BLOCK],
+    };
+    let mut q = Queue {
+        len: 0,
+        index: [0; QUEUE],
+        rel: [[0.0; QUEUE]; 3],
+        p: [[0.0; QUEUE]; 3],
+        d2: [0.0; QUEUE],
+        radius: [0.0; QUEUE],
+        dir_before: [[0.0; QUEUE]; 3],
+        velocity_before: [0.0; QUEUE],
+    };
+    let total = selections.len();
+    for (bi, block) in blocks.iter().enumerate() {
+        let base = bi * BLOCK;
+        let live = (total - base).min(BLOCK);
+        if c.cull {
+            cull_block::<true>(c, block, &mut culled);
+        } else {
+            cull_block::<false>(c, block, &mut culled);
         }
+        // Culled objects' outputs; the visible ones' follow when modelled.
+        selections[base..base + live].fill(Selection::CULLED);
+        if let Some(b) = budget.as_deref_mut() {
+            for e in &mut b[base..base + live] {
+                e.row = u32::MAX;
+            }
+        }
+        let mb = &mut motion[bi];
+        // Append the visible lanes, branch-free.
+        let mut n = q.len;
+        for lane in 0..live {
+            let at = n % QUEUE;
+            q.index[at] = (base + lane) as u32;
+            for a in 0..3 {
+                q.rel[a][at] = culled.rel[a][lane];
+                q.p[a][at] = culled.p[a][lane];
+            }
+            q.d2[at] = culled.d2[lane];
+            q.radius[at] = block.radius[lane];
+            let visible = culled.visible[lane];
+            if VELOCITY {
+                for a in 0..3 {
+                    q.dir_before[a][at] = mb.dir_eye[a][lane];
+                }
+                let v = mb.velocity_deg_per_s[lane];
+                q.velocity_before[at] = v;
+                // Culled: no history when next seen.
+                mb.velocity_deg_per_s[lane] = if visible != 0 { v } else { -1.0 };
+            }
+            n += visible as usize;
+        }
+        q.len = n;
+        if q.len >= BLOCK {
+            model::<VELOCITY, ECCENTRICITY, NEAREST>(
+                c,
+                &q,
+                blocks,
+                motion,
+                pursued,
+                Outputs {
+                    selections: &mut *selections,
+                    diagnostics: diagnostics.as_deref_mut(),
+                    budget: budget.as_deref_mut(),
+                },
+            );
+            q.len = 0;
+        }
+    }
+    if q.len > 0 {
+        model::<VELOCITY, ECCENTRICITY, NEAREST>(
+            c,
+            &q,
+            blocks,
+            motion,
+            pursued,
+            Outputs {
+                selections,
+                diagnostics,
+                budget,
+            },
+        );
+    }
+}
+
+/// Models the queued objects and writes their selections: short passes
+/// over plain arrays (vectorised), then the per-object viewpoint lookup and
+/// LOD count. `pursued` is the pursued object's index within the work item.
+#[inline(always)]
+fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
+    c: &FrameConsts<'_>,
+    q: &Queue,
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
+    pursued: u32,
+    out: Outputs<'_>,
+) {
+    let n = q.len.min(QUEUE);
+    let mut m = Modelled {
+        theta_deg: [0.0; QUEUE],
+        inv_d: [0.0; QUEUE],
+        eccentricity_deg: [0.0; QUEUE],
+        dir: [[0.0; QUEUE]; 3],
+        velocity: [0.0; QUEUE],
+        seen_velocity: [0.0; QUEUE],
+        threshold_cpd: [0.0; QUEUE],
+        k_cdiam: [0.0; QUEUE],
+    };
+    for i in 0..n {
+        let (d2, r) = (q.d2[i], q.radius[i]);
         let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
         let sin_half = fastmath::min(r * inv_d, 1.0);
-        let theta_deg = if inside {
-            180.0
-        } else {
-            2.0 * fastmath::asin_unchecked(sin_half) * RAD_TO_DEG
-        };
-        let eccentricity_deg = if ECCENTRICITY {
-            let angle_deg =
-                fastmath::acos_unchecked(fastmath::clamp(-p.z * inv_d, -1.0, 1.0)) * RAD_TO_DEG;
-            fastmath::max(angle_deg - 0.5 * theta_deg - c.margin_deg, 0.0)
-        } else {
-            0.0
-        };
-        let velocity_deg_per_s = if VELOCITY {
-            let dir = p * inv_d;
-            let v = if m.velocity_deg_per_s < 0.0 {
+        let theta = 2.0 * fastmath::asin_unchecked(sin_half) * RAD_TO_DEG;
+        m.inv_d[i] = inv_d;
+        m.theta_deg[i] = if d2 <= r * r { 180.0 } else { theta };
+    }
+    if ECCENTRICITY {
+        for i in 0..n {
+            let cos = fastmath::clamp(-q.p[2][i] * m.inv_d[i], -1.0, 1.0);
+            let angle_deg = fastmath::acos_unchecked(cos) * RAD_TO_DEG;
+            m.eccentricity_deg[i] =
+                fastmath::max(angle_deg - 0.5 * m.theta_deg[i] - c.margin_deg, 0.0);
+        }
+    }
+    if VELOCITY {
+        for i in 0..n {
+            let inv_d = m.inv_d[i];
+            let dir = [q.p[0][i] * inv_d, q.p[1][i] * inv_d, q.p[2][i] * inv_d];
+            let before = q.velocity_before[i];
+            let (ex, ey, ez) = (
+                dir[0] - q.dir_before[0][i],
+                dir[1] - q.dir_before[1][i],
+                dir[2] - q.dir_before[2][i],
+            );
+            let chord = (ex * ex + ey * ey + ez * ez).sqrt();
+            let step_deg =
+                2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord, 1.0)) * RAD_TO_DEG;
+            let now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
+            let smoothed = before + c.alpha * (now - before);
+            let v = if before < 0.0 {
                 0.0
             } else if c.dt_valid {
-                let chord = (dir - m.dir_eye).length();
-                let step_deg =
-                    2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord, 1.0)) * RAD_TO_DEG;
-                let v_now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
-                m.velocity_deg_per_s + c.alpha * (v_now - m.velocity_deg_per_s)
+                smoothed
             } else {
-                m.velocity_deg_per_s
+                before
             };
-            *m = MotionState {
-                dir_eye: dir,
-                velocity_deg_per_s: v,
-            };
-            if first_index + i as u32 == c.pursued {
-                0.0
-            } else {
-                v
+            for a in 0..3 {
+                m.dir[a][i] = dir[a];
             }
-        } else {
-            0.0
-        };
+            m.velocity[i] = v;
+            m.seen_velocity[i] = if q.index[i] == pursued { 0.0 } else { v };
+        }
+    }
+    for i in 0..n {
         let g = if VELOCITY {
             let v = fastmath::clamp(
-                velocity_deg_per_s,
+                m.seen_velocity[i],
                 VELOCITY_FLOOR_DEG_PER_S,
                 VELOCITY_CEILING_DEG_PER_S,
             );
@@ -909,7 +1178,7 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         };
         let m_factor = if ECCENTRICITY {
             let e = fastmath::clamp(
-                eccentricity_deg,
+                m.eccentricity_deg[i],
                 ECCENTRICITY_FLOOR_DEG,
                 ECCENTRICITY_CEILING_DEG,
             );
@@ -919,34 +1188,74 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             1.0
         };
         let threshold_cpd = c.scale * fastmath::min(g * m_factor, c.limit_cpd);
-        let size_deg = if c.size_on { theta_deg } else { c.fill_deg };
+        let size_deg = if c.size_on {
+            m.theta_deg[i]
+        } else {
+            c.fill_deg
+        };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
-        let k_cdiam = if inside {
+        let (d2, r) = (q.d2[i], q.radius[i]);
+        m.threshold_cpd[i] = threshold_cpd;
+        m.k_cdiam[i] = if d2 <= r * r {
             f32::INFINITY
         } else {
             threshold_cpd * size_deg
         };
-        let profile = &c.profiles[rec.profile as usize];
-        let n = profile.lod_count - 1;
-        let row = match (&profile.views, NEAREST) {
-            (Some(views), true) => {
-                let to_camera_obj = rec.rotation.conjugate() * (-rel);
-                profile.rows_start + (1 + views.nearest(to_camera_obj)) * n
+    }
+    // The direction to the camera in the object's frame and its cube-map
+    // cell, for the nearest viewpoint.
+    let mut to_camera = [[0.0; QUEUE]; 3];
+    let mut cell = [0u32; QUEUE];
+    if NEAREST {
+        for i in 0..n {
+            let index = q.index[i] as usize;
+            let rel = Vec3::new(q.rel[0][i], q.rel[1][i], q.rel[2][i]);
+            let d = blocks[index / BLOCK].rotation[index % BLOCK].conjugate() * (-rel);
+            for a in 0..3 {
+                to_camera[a][i] = d[a];
             }
-            _ => profile.rows_start,
-        };
-        let lod = count_coarser(&c.rows[row..row + n], k_cdiam);
-        *sel = Selection(lod as u8);
+        }
+        for i in 0..n {
+            let d = Vec3::new(to_camera[0][i], to_camera[1][i], to_camera[2][i]);
+            cell[i] = viewpoints::cell_index(d);
+        }
+    }
+    let Outputs {
+        selections,
+        mut diagnostics,
+        mut budget,
+    } = out;
+    for i in 0..n {
+        let index = q.index[i] as usize;
+        let (bi, lane) = (index / BLOCK, index % BLOCK);
+        let profile = c.profiles[blocks[bi].profile[lane] as usize];
+        let stride = profile.stride as usize;
+        let mut row = profile.start as usize;
+        if NEAREST && profile.lookup != NO_LOOKUP {
+            let d = Vec3::new(to_camera[0][i], to_camera[1][i], to_camera[2][i]);
+            let view = c.lookups[profile.lookup as usize].nearest_in_cell(cell[i], d);
+            row += (1 + view) * stride;
+        }
+        let k_cdiam = m.k_cdiam[i];
+        let lod = count_coarser_padded(&c.rows[row..row + stride], k_cdiam);
+        selections[index] = Selection(lod as u8);
+        if VELOCITY {
+            let mb = &mut motion[bi];
+            for a in 0..3 {
+                mb.dir_eye[a][lane] = m.dir[a][i];
+            }
+            mb.velocity_deg_per_s[lane] = m.velocity[i];
+        }
         if let Some(d) = diagnostics.as_deref_mut() {
-            d[i] = Diagnostics {
-                angular_size_deg: theta_deg,
-                eccentricity_deg,
-                velocity_deg_per_s,
-                threshold_cpd,
+            d[index] = Diagnostics {
+                angular_size_deg: m.theta_deg[i],
+                eccentricity_deg: m.eccentricity_deg[i],
+                velocity_deg_per_s: m.seen_velocity[i],
+                threshold_cpd: m.threshold_cpd[i],
             };
         }
         if let Some(b) = budget.as_deref_mut() {
-            b[i] = BudgetEntry {
+            b[index] = BudgetEntry {
                 k_cdiam,
                 row: row as u32,
             };
