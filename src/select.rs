@@ -982,7 +982,7 @@ const EVERY_LANE: [u8; QUEUE] = {
 /// Blocks with at least this many visible objects are modelled whole (the
 /// culled lanes' results are dropped), which costs less than moving the
 /// visible ones to the queue.
-const DENSE_BLOCK: u32 = 20;
+const DENSE_BLOCK: usize = 20;
 
 /// The model's results for a batch.
 struct Modelled {
@@ -1141,13 +1141,13 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 e.row = u32::MAX;
             }
         }
-        let count: u32 = visible.iter().sum();
-        if count >= DENSE_BLOCK {
-            let mut n = 0;
-            for (lane, &v) in visible.iter().enumerate() {
-                lanes[n] = lane as u8;
-                n += v as usize;
-            }
+        // The visible lanes, listed branch-free.
+        let mut n = 0;
+        for (lane, &v) in visible.iter().enumerate() {
+            lanes[n] = lane as u8;
+            n += v as usize;
+        }
+        if n >= DENSE_BLOCK {
             model::<VELOCITY, ECCENTRICITY, NEAREST>(
                 c,
                 bb,
@@ -1164,10 +1164,9 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             );
             continue;
         }
-        // Append the visible lanes to the queue, branch-free.
-        let mut n = queued;
-        for lane in 0..live {
-            let at = n % QUEUE;
+        // Append the visible lanes to the queue.
+        for &lane in &lanes[..n] {
+            let (lane, at) = (lane as usize % BLOCK, queued % QUEUE);
             queue.index[at] = bb.index[lane];
             for a in 0..3 {
                 if NEAREST {
@@ -1181,9 +1180,8 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             queue.d2[at] = bb.d2[lane];
             queue.radius[at] = bb.radius[lane];
             queue.velocity_before[at] = bb.velocity_before[lane];
-            n += visible[lane] as usize;
+            queued += 1;
         }
-        queued = n;
         if queued >= BLOCK {
             model::<VELOCITY, ECCENTRICITY, NEAREST>(
                 c,
