@@ -6,18 +6,30 @@
 //! removed features (transitions `0..j` at the chosen viewpoint) all lie
 //! above `T`: a feature of `f` c/diam shows at `f / theta` c/deg, so LOD `j`
 //! is invisible when the prefix minimum of those frequencies exceeds
-//! `T * theta`. Prefix minima are precomputed per viewpoint, which makes the
-//! choice a count of comparisons.
+//! `T * theta`. Prefix minima are precomputed per viewpoint, in rows padded
+//! with `-inf` to whole groups of 4, which makes the choice a count of
+//! 4-wide comparisons.
 //!
-//! Layout. Objects with more than one LOD live in a dense array of 48-byte
-//! records (`f64` centre, radius, profile, rotation) with their motion
-//! state and outputs in parallel arrays; objects with one LOD live apart and
-//! are only culled (or not touched at all with culling off). The loop is
-//! monomorphised over the velocity, eccentricity and nearest-viewpoint
-//! switches, so a switched-off component costs nothing, uses branch-free
-//! polynomial `asin`/`acos`/`log10` ([`crate::fastmath`]), allocates
-//! nothing, and runs on rayon (feature `parallel`) above
-//! [`SelectorSettings::parallel_min_objects`].
+//! Layout. Objects with more than one LOD live in blocks of 32, field by
+//! field within a block (`f64` centre coordinates, radius, profile index,
+//! rotation), with their motion state in matching blocks and their outputs
+//! in flat arrays; objects with one LOD live apart and are only culled (or
+//! not touched at all with culling off). Each block is first culled as a
+//! whole, branch-free (the camera-relative centre is taken in `f64` and then
+//! rounded to `f32`, so far-off scenes select like scenes at the origin);
+//! the visible objects of a sparse block go to a queue, and every 32 or
+//! more of them are modelled together (a block with most objects visible is
+//! modelled whole, which costs less than queueing), in short passes over
+//! plain arrays that the compiler vectorises (branch-free polynomial
+//! `asin`/`acos`/`log10`, [`crate::fastmath`]), followed by the per-object
+//! viewpoint lookup and LOD count. Profiles with the same viewpoints share
+//! one lookup table. The loop is monomorphised over the velocity,
+//! eccentricity and nearest-viewpoint switches, so a switched-off component
+//! costs nothing, allocates nothing, and runs on rayon (feature `parallel`)
+//! above [`SelectorSettings::parallel_min_objects`].
+
+// Index loops over parallel fixed-size arrays are what vectorises here.
+#![allow(clippy::needless_range_loop)]
 
 use glam::{DVec3, Mat3, Quat, Vec3};
 
@@ -30,10 +42,17 @@ use crate::display::Display;
 use crate::error::{Error, Result};
 use crate::fastmath;
 use crate::profile::Profile;
-use crate::viewpoints::ViewpointLookup;
+use crate::viewpoints::{self, ViewpointLookup};
 
-/// Objects per parallel work item.
+/// Objects per block of the store.
+const BLOCK: usize = 32;
+/// Capacity of the queue of visible objects: fewer than a block waiting,
+/// plus one block.
+const QUEUE: usize = 2 * BLOCK;
+/// Objects per parallel work item; a whole number of blocks.
 const CHUNK: usize = 4096;
+/// [`ProfileRows::lookup`] of a profile without viewpoint lookup.
+const NO_LOOKUP: u32 = u32::MAX;
 /// Retinal velocities are capped here, deg/s: far beyond the model's
 /// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
 pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
@@ -166,27 +185,44 @@ pub struct BudgetOutcome {
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,
 }
-
-#[derive(Clone, Copy, Debug)]
-#[repr(C)]
-struct ObjectRecord {
-    center: DVec3,
-    radius: f32,
-    profile: u32,
-    rotation: Quat,
+/// 32 objects with more than one LOD, field by field. Lanes past the last
+/// object of the last block are padding, never read.
+#[derive(Clone, Debug)]
+struct Block {
+    /// Centre of the bounding sphere, world units.
+    x: [f64; BLOCK],
+    y: [f64; BLOCK],
+    z: [f64; BLOCK],
+    /// Radius of the bounding sphere, world units.
+    radius: [f32; BLOCK],
+    /// Index into the selector's profiles.
+    profile: [u32; BLOCK],
+    /// Rotation from the object's frame to the world, normalised
+    /// (quaternion x, y, z, w).
+    rotation: [[f32; BLOCK]; 4],
 }
 
-#[derive(Clone, Copy, Debug, Default)]
-struct MotionState {
-    /// Direction to the object in the eye's frame, last frame.
-    dir_eye: Vec3,
+const EMPTY_BLOCK: Block = Block {
+    x: [0.0; BLOCK],
+    y: [0.0; BLOCK],
+    z: [0.0; BLOCK],
+    radius: [0.0; BLOCK],
+    profile: [0; BLOCK],
+    rotation: [[0.0; BLOCK], [0.0; BLOCK], [0.0; BLOCK], [1.0; BLOCK]],
+};
+
+/// The motion state of a block's objects.
+#[derive(Clone, Debug)]
+struct MotionBlock {
+    /// Direction to the object in the eye's frame last frame (x, y, z).
+    dir_eye: [[f32; BLOCK]; 3],
     /// Smoothed retinal velocity, deg/s; negative: no history yet.
-    velocity_deg_per_s: f32,
+    velocity_deg_per_s: [f32; BLOCK],
 }
 
-const NO_HISTORY: MotionState = MotionState {
-    dir_eye: Vec3::ZERO,
-    velocity_deg_per_s: -1.0,
+const NO_HISTORY: MotionBlock = MotionBlock {
+    dir_eye: [[0.0; BLOCK]; 3],
+    velocity_deg_per_s: [-1.0; BLOCK],
 };
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -201,10 +237,18 @@ struct BudgetEntry {
 #[derive(Clone, Debug)]
 struct CompiledProfile {
     lod_count: usize,
-    /// Row 0: worst case over viewpoints; row `1 + v`: viewpoint `v`.
-    rows_start: usize,
-    views: Option<ViewpointLookup>,
     triangles: Vec<u32>,
+}
+
+/// Where a profile's prefix-minimum rows lie in [`Selector::rows`]: row 0
+/// is the worst case over viewpoints, row `1 + v` viewpoint `v`; each has
+/// `lod_count - 1` entries padded with `-inf` to `stride`, a multiple of 4.
+#[derive(Clone, Copy, Debug)]
+struct ProfileRows {
+    start: u32,
+    stride: u32,
+    /// Index into [`Selector::lookups`], or [`NO_LOOKUP`] for one viewpoint.
+    lookup: u32,
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -237,9 +281,15 @@ pub struct Selector {
     display: Display,
     settings: SelectorSettings,
     profiles: Vec<CompiledProfile>,
+    profile_rows: Vec<ProfileRows>,
+    /// Viewpoint lookups, one per distinct viewpoint set.
+    lookups: Vec<ViewpointLookup>,
     rows: Vec<f32>,
-    objects: Vec<ObjectRecord>,
-    motion: Vec<MotionState>,
+    /// Objects with more than one LOD: object `i` is lane `i % 32` of
+    /// block `i / 32`.
+    blocks: Vec<Block>,
+    motion: Vec<MotionBlock>,
+    /// One per object with more than one LOD (so also their count).
     selections: Vec<Selection>,
     diagnostics: Vec<Diagnostics>,
     budget: Vec<BudgetEntry>,
@@ -270,7 +320,8 @@ struct FrameConsts<'a> {
     alpha: f32,
     pursued: u32,
     rows: &'a [f32],
-    profiles: &'a [CompiledProfile],
+    profiles: &'a [ProfileRows],
+    lookups: &'a [ViewpointLookup],
 }
 
 impl Selector {
@@ -280,8 +331,10 @@ impl Selector {
             display,
             settings,
             profiles: Vec::new(),
+            profile_rows: Vec::new(),
+            lookups: Vec::new(),
             rows: Vec::new(),
-            objects: Vec::new(),
+            blocks: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
             diagnostics: Vec::new(),
@@ -308,36 +361,52 @@ impl Selector {
     }
 
     /// Adds a profile (validated again here) and precomputes its prefix
-    /// minima and viewpoint lookup.
+    /// minima and viewpoint lookup (shared with earlier profiles that have
+    /// the same viewpoints).
     pub fn add_profile(&mut self, profile: &Profile) -> Result<ProfileId> {
         profile.validate()?;
         let n = profile.transitions_per_view();
-        let rows_start = self.rows.len();
-        let mut worst = vec![f32::INFINITY; n];
-        let mut view_rows = Vec::with_capacity(profile.viewpoints.len() * n);
-        for v in 0..profile.viewpoints.len() {
+        let stride = n.next_multiple_of(4);
+        let start = self.rows.len();
+        let views = profile.viewpoints.len();
+        let mut rows = vec![f32::NEG_INFINITY; (1 + views) * stride];
+        rows[..n].fill(f32::INFINITY);
+        for v in 0..views {
             let mut running = f32::INFINITY;
             for (t, tr) in profile.view_transitions(v).iter().enumerate() {
                 running = running.min(tr.lowest_cdiam.unwrap_or(f32::INFINITY));
-                view_rows.push(running);
-                worst[t] = worst[t].min(running);
+                rows[(1 + v) * stride + t] = running;
+                rows[t] = rows[t].min(running);
             }
         }
-        self.rows.extend_from_slice(&worst);
-        self.rows.extend_from_slice(&view_rows);
-        let views = (profile.viewpoints.len() > 1 && n > 0).then(|| {
-            ViewpointLookup::new(
-                profile
-                    .viewpoints
-                    .iter()
-                    .map(|v| Vec3::from_array(*v).normalize())
-                    .collect(),
-            )
+        self.rows.extend_from_slice(&rows);
+        let lookup = if views > 1 && n > 0 {
+            let directions: Vec<Vec3> = profile
+                .viewpoints
+                .iter()
+                .map(|v| Vec3::from_array(*v).normalize())
+                .collect();
+            match self
+                .lookups
+                .iter()
+                .position(|l| l.directions() == directions)
+            {
+                Some(i) => i as u32,
+                None => {
+                    self.lookups.push(ViewpointLookup::new(directions));
+                    self.lookups.len() as u32 - 1
+                }
+            }
+        } else {
+            NO_LOOKUP
+        };
+        self.profile_rows.push(ProfileRows {
+            start: start as u32,
+            stride: stride as u32,
+            lookup,
         });
         self.profiles.push(CompiledProfile {
             lod_count: profile.lod_count(),
-            rows_start,
-            views,
             triangles: profile.lod_triangles.clone(),
         });
         Ok(ProfileId(self.profiles.len() as u32 - 1))
@@ -362,19 +431,26 @@ impl Selector {
             self.single_selections.push(Selection(0));
             return Ok(ObjectId(SINGLE_LOD_BIT | (self.singles.len() as u32 - 1)));
         }
-        if self.objects.len() as u32 >= SINGLE_LOD_BIT - 1 {
+        let i = self.selections.len();
+        if i as u32 >= SINGLE_LOD_BIT - 1 {
             return Err(Error::invalid("objects", "more than 2^31 objects"));
         }
-        self.objects.push(ObjectRecord {
-            center,
-            radius,
-            profile: desc.profile.0,
-            rotation,
-        });
-        self.motion.push(NO_HISTORY);
+        if i.is_multiple_of(BLOCK) {
+            self.blocks.push(EMPTY_BLOCK);
+            self.motion.push(NO_HISTORY);
+        }
+        let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
+        block.x[lane] = center.x;
+        block.y[lane] = center.y;
+        block.z[lane] = center.z;
+        block.radius[lane] = radius;
+        block.profile[lane] = desc.profile.0;
+        for (a, q) in rotation.to_array().into_iter().enumerate() {
+            block.rotation[a][lane] = q;
+        }
         self.selections.push(Selection(0));
         self.diagnostics.push(Diagnostics::default());
-        Ok(ObjectId(self.objects.len() as u32 - 1))
+        Ok(ObjectId(i as u32))
     }
 
     /// Moves an object. Its velocity history is kept: the motion shows up
@@ -385,9 +461,14 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].center = center;
         } else {
-            let rec = &mut self.objects[id.0 as usize];
-            rec.center = center;
-            rec.rotation = rotation;
+            let i = id.0 as usize;
+            let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
+            block.x[lane] = center.x;
+            block.y[lane] = center.y;
+            block.z[lane] = center.z;
+            for (a, q) in rotation.to_array().into_iter().enumerate() {
+                block.rotation[a][lane] = q;
+            }
         }
         Ok(())
     }
@@ -404,25 +485,25 @@ impl Selector {
         if id.0 & SINGLE_LOD_BIT != 0 {
             self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].radius = radius;
         } else {
-            self.objects[id.0 as usize].radius = radius;
+            let i = id.0 as usize;
+            self.blocks[i / BLOCK].radius[i % BLOCK] = radius;
         }
         Ok(())
     }
 
     fn radius(&self, id: ObjectId) -> Result<f32> {
+        let i = (id.0 & !SINGLE_LOD_BIT) as usize;
         let r = if id.0 & SINGLE_LOD_BIT != 0 {
-            self.singles
-                .get((id.0 & !SINGLE_LOD_BIT) as usize)
-                .map(|s| s.radius)
+            self.singles.get(i).map(|s| s.radius)
         } else {
-            self.objects.get(id.0 as usize).map(|o| o.radius)
+            (i < self.selections.len()).then(|| self.blocks[i / BLOCK].radius[i % BLOCK])
         };
         r.ok_or_else(|| Error::invalid("id", format!("{id:?} is not in this selector")))
     }
 
     /// Number of objects, single-LOD ones included.
     pub fn object_count(&self) -> usize {
-        self.objects.len() + self.singles.len()
+        self.selections.len() + self.singles.len()
     }
 
     /// The selection of an object from the last `select*` call (LOD 0
@@ -445,13 +526,9 @@ impl Selector {
     /// Triangles drawn with the current selections (culled objects: 0).
     pub fn triangles(&self) -> u64 {
         let multi: u64 = self
-            .objects
-            .iter()
+            .object_profiles()
             .zip(&self.selections)
-            .filter_map(|(o, s)| {
-                s.lod()
-                    .map(|l| self.profiles[o.profile as usize].triangles[l] as u64)
-            })
+            .filter_map(|(p, s)| s.lod().map(|l| self.profiles[p].triangles[l] as u64))
             .sum();
         multi + self.single_triangles()
     }
@@ -463,6 +540,14 @@ impl Selector {
             .filter(|(_, s)| !s.is_culled())
             .map(|(o, _)| o.triangles as u64)
             .sum()
+    }
+
+    /// The profile index of each object with more than one LOD, in order.
+    fn object_profiles(&self) -> impl Iterator<Item = usize> + '_ {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.profile.iter().map(|&p| p as usize))
+            .take(self.selections.len())
     }
 }
 
@@ -521,7 +606,7 @@ impl Selector {
         triangle_budget: u64,
     ) -> Result<BudgetOutcome> {
         self.budget
-            .resize(self.objects.len(), BudgetEntry::default());
+            .resize(self.selections.len(), BudgetEntry::default());
         let s_max = checked_scale(frame.scale)?;
         self.run(frame, 1.0, Extra::Budget)?;
         let fixed = self.single_triangles();
@@ -533,11 +618,11 @@ impl Selector {
             let (lo, hi) = (s_min.ln(), s_max.ln());
             let width = ((hi - lo) / BINS as f32).max(f32::MIN_POSITIVE);
             let mut saved = [0u64; BINS];
-            for (entry, rec) in self.budget.iter().zip(&self.objects) {
+            for (entry, p) in self.budget.iter().zip(self.object_profiles()) {
                 if entry.row == u32::MAX {
                     continue;
                 }
-                let p = &self.profiles[rec.profile as usize];
+                let p = &self.profiles[p];
                 let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
                 for (j, &f) in row.iter().enumerate() {
                     // LOD > j exactly when s < f / k.
@@ -579,10 +664,10 @@ impl Selector {
     fn triangles_at(&self, scale: f32) -> u64 {
         self.budget
             .iter()
-            .zip(&self.objects)
+            .zip(self.object_profiles())
             .filter(|(e, _)| e.row != u32::MAX)
-            .map(|(e, rec)| {
-                let p = &self.profiles[rec.profile as usize];
+            .map(|(e, p)| {
+                let p = &self.profiles[p];
                 let lod = count_coarser(
                     &self.rows[e.row as usize..][..p.lod_count - 1],
                     scale * e.k_cdiam,
@@ -593,16 +678,15 @@ impl Selector {
     }
 
     fn apply_budget_scale(&mut self, scale: f32) {
-        for ((e, rec), sel) in self
-            .budget
+        let profiles = self
+            .blocks
             .iter()
-            .zip(&self.objects)
-            .zip(&mut self.selections)
-        {
+            .flat_map(|b| b.profile.iter().map(|&p| p as usize));
+        for ((e, p), sel) in self.budget.iter().zip(profiles).zip(&mut self.selections) {
             if e.row == u32::MAX {
                 continue;
             }
-            let n = self.profiles[rec.profile as usize].lod_count - 1;
+            let n = self.profiles[p].lod_count - 1;
             *sel = Selection(
                 count_coarser(&self.rows[e.row as usize..][..n], scale * e.k_cdiam) as u8,
             );
@@ -610,52 +694,15 @@ impl Selector {
     }
 
     fn run(&mut self, frame: &FrameInput, scale_override: f32, extra: Extra) -> Result<()> {
-        let scale = checked_scale(scale_override)?;
-        checked_scale(frame.scale)?;
-        let cam_rot = frame.camera.validate()?;
-        let (gaze_cam, margin_deg) = frame.gaze.validate()?;
-        let gaze_rot = Quat::from_rotation_arc(Vec3::NEG_Z, gaze_cam);
-        let world_to_eye = Mat3::from_quat(cam_rot * gaze_rot).transpose();
-        let eye_from_cam = Mat3::from_quat(gaze_rot).transpose();
-        let [fov_h, fov_v] = self.display.fov_deg();
-        let (sh, ch) = (0.5 * fov_h).to_radians().sin_cos();
-        let (sv, cv) = (0.5 * fov_v).to_radians().sin_cos();
-        let planes_cam = [
-            Vec3::new(ch, 0.0, sh),
-            Vec3::new(-ch, 0.0, sh),
-            Vec3::new(0.0, cv, sv),
-            Vec3::new(0.0, -cv, sv),
-        ];
-        let dt = frame.dt_s;
-        let dt_valid = dt.is_finite() && dt > 0.0 && dt <= 1e6;
-        let tau = self.settings.velocity_time_constant_s;
-        let alpha = if dt_valid && tau.is_finite() && tau > 0.0 {
-            1.0 - (-dt / tau).exp()
-        } else {
-            1.0
-        };
-        let pursued = match frame.gaze.pursued {
-            Some(ObjectId(i)) if i & SINGLE_LOD_BIT == 0 => i,
-            _ => u32::MAX,
-        };
-        let c = FrameConsts {
-            cam_pos: frame.camera.position,
-            world_to_eye,
-            planes_eye: planes_cam.map(|n| eye_from_cam * n),
-            forward_eye: eye_from_cam * Vec3::NEG_Z,
-            cull: self.settings.cull,
-            size_on: self.settings.components.size,
-            margin_deg,
-            limit_cpd: self.display.max_frequency_cpd(),
-            scale,
-            fill_deg: self.display.filling_angular_size_deg(),
-            dt_valid,
-            inv_dt: if dt_valid { 1.0 / dt } else { 0.0 },
-            alpha,
-            pursued,
-            rows: &self.rows,
-            profiles: &self.profiles,
-        };
+        let c = frame_consts(
+            &self.display,
+            &self.settings,
+            &self.rows,
+            &self.profile_rows,
+            &self.lookups,
+            frame,
+            scale_override,
+        )?;
         let comps = self.settings.components;
         let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
         let kernel = match (comps.velocity, comps.eccentricity, nearest) {
@@ -675,7 +722,7 @@ impl Selector {
         };
         dispatch(
             &c,
-            &self.objects,
+            &self.blocks,
             &mut self.motion,
             outputs,
             kernel,
@@ -695,6 +742,65 @@ impl Selector {
     }
 }
 
+/// The per-frame constants of the loop; fails on an invalid frame.
+fn frame_consts<'a>(
+    display: &Display,
+    settings: &SelectorSettings,
+    rows: &'a [f32],
+    profiles: &'a [ProfileRows],
+    lookups: &'a [ViewpointLookup],
+    frame: &FrameInput,
+    scale_override: f32,
+) -> Result<FrameConsts<'a>> {
+    let scale = checked_scale(scale_override)?;
+    checked_scale(frame.scale)?;
+    let cam_rot = frame.camera.validate()?;
+    let (gaze_cam, margin_deg) = frame.gaze.validate()?;
+    let gaze_rot = Quat::from_rotation_arc(Vec3::NEG_Z, gaze_cam);
+    let world_to_eye = Mat3::from_quat(cam_rot * gaze_rot).transpose();
+    let eye_from_cam = Mat3::from_quat(gaze_rot).transpose();
+    let [fov_h, fov_v] = display.fov_deg();
+    let (sh, ch) = (0.5 * fov_h).to_radians().sin_cos();
+    let (sv, cv) = (0.5 * fov_v).to_radians().sin_cos();
+    let planes_cam = [
+        Vec3::new(ch, 0.0, sh),
+        Vec3::new(-ch, 0.0, sh),
+        Vec3::new(0.0, cv, sv),
+        Vec3::new(0.0, -cv, sv),
+    ];
+    let dt = frame.dt_s;
+    let dt_valid = dt.is_finite() && dt > 0.0 && dt <= 1e6;
+    let tau = settings.velocity_time_constant_s;
+    let alpha = if dt_valid && tau.is_finite() && tau > 0.0 {
+        1.0 - (-dt / tau).exp()
+    } else {
+        1.0
+    };
+    let pursued = match frame.gaze.pursued {
+        Some(ObjectId(i)) if i & SINGLE_LOD_BIT == 0 => i,
+        _ => u32::MAX,
+    };
+    Ok(FrameConsts {
+        cam_pos: frame.camera.position,
+        world_to_eye,
+        planes_eye: planes_cam.map(|n| eye_from_cam * n),
+        forward_eye: eye_from_cam * Vec3::NEG_Z,
+        cull: settings.cull,
+        size_on: settings.components.size,
+        margin_deg,
+        limit_cpd: display.max_frequency_cpd(),
+        scale,
+        fill_deg: display.filling_angular_size_deg(),
+        dt_valid,
+        inv_dt: if dt_valid { 1.0 / dt } else { 0.0 },
+        alpha,
+        pursued,
+        rows,
+        profiles,
+        lookups,
+    })
+}
+
 fn checked_scale(scale: f32) -> Result<f32> {
     if scale > 0.0 {
         Ok(scale.min(1.0))
@@ -709,18 +815,18 @@ struct Outputs<'a> {
     budget: Option<&'a mut [BudgetEntry]>,
 }
 
-type Kernel = fn(&FrameConsts<'_>, &[ObjectRecord], &mut [MotionState], u32, Outputs<'_>);
+type Kernel = fn(&FrameConsts<'_>, &[Block], &mut [MotionBlock], u32, Outputs<'_>);
 
 fn dispatch(
     c: &FrameConsts<'_>,
-    objects: &[ObjectRecord],
-    motion: &mut [MotionState],
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
     out: Outputs<'_>,
     kernel: Kernel,
     parallel_min: usize,
 ) {
     #[cfg(feature = "parallel")]
-    if objects.len() >= parallel_min.max(2 * CHUNK) {
+    if out.selections.len() >= parallel_min.max(2 * CHUNK) {
         use rayon::prelude::*;
         let Outputs {
             selections,
@@ -729,9 +835,9 @@ fn dispatch(
         } = out;
         let diag_iter = diagnostics.map(|d| d.par_chunks_mut(CHUNK));
         let budget_iter = budget.map(|b| b.par_chunks_mut(CHUNK));
-        let base = objects
-            .par_chunks(CHUNK)
-            .zip(motion.par_chunks_mut(CHUNK))
+        let base = blocks
+            .par_chunks(CHUNK / BLOCK)
+            .zip(motion.par_chunks_mut(CHUNK / BLOCK))
             .zip(selections.par_chunks_mut(CHUNK))
             .enumerate();
         match (diag_iter, budget_iter) {
@@ -778,7 +884,7 @@ fn dispatch(
         return;
     }
     let _ = parallel_min;
-    kernel(c, objects, motion, 0, out);
+    kernel(c, blocks, motion, 0, out);
 }
 
 /// Whether a sphere at `p` (eye frame) of radius `r` lies wholly outside a
@@ -822,11 +928,172 @@ fn count_coarser(prefix_min_cdiam: &[f32], k_cdiam: f32) -> usize {
         .sum()
 }
 
+/// [`count_coarser`] over a row padded with `-inf` to groups of 4 (at
+/// least one): one 4-wide comparison and count per group.
+#[inline(always)]
+fn count_coarser_padded(row: &[f32], k_cdiam: f32) -> usize {
+    let group = |g: &[f32]| {
+        let g: [f32; 4] = g.try_into().unwrap_or([f32::NEG_INFINITY; 4]);
+        g.map(|f| (f > k_cdiam) as u32).iter().sum::<u32>() as usize
+    };
+    let (first, rest) = row.split_at(4.min(row.len()));
+    group(first) + rest.chunks_exact(4).map(group).sum::<usize>()
+}
+
+/// Objects to model, field by field: a block's 32 lanes straight from
+/// the cull pass, or a queue of visible objects gathered from sparse blocks.
+struct Batch {
+    /// Object index within the work item.
+    index: [u32; QUEUE],
+    /// Direction to the camera in the object's frame, not normalised
+    /// (x, y, z; with the nearest-viewpoint rule).
+    to_camera: [[f32; QUEUE]; 3],
+    /// Centre in the eye's frame (x, y, z).
+    p: [[f32; QUEUE]; 3],
+    /// Squared distance.
+    d2: [f32; QUEUE],
+    radius: [f32; QUEUE],
+    /// Last frame's direction and velocity (with the velocity component).
+    dir_before: [[f32; QUEUE]; 3],
+    velocity_before: [f32; QUEUE],
+}
+
+const EMPTY_BATCH: Batch = Batch {
+    index: [0; QUEUE],
+    to_camera: [[0.0; QUEUE]; 3],
+    p: [[0.0; QUEUE]; 3],
+    d2: [0.0; QUEUE],
+    radius: [0.0; QUEUE],
+    dir_before: [[0.0; QUEUE]; 3],
+    velocity_before: [0.0; QUEUE],
+};
+
+/// `0, 1, 2, ...`: every lane of a queue.
+const EVERY_LANE: [u8; QUEUE] = {
+    let mut lanes = [0; QUEUE];
+    let mut i = 0;
+    while i < QUEUE {
+        lanes[i] = i as u8;
+        i += 1;
+    }
+    lanes
+};
+
+/// Blocks with at least this many visible objects are modelled whole (the
+/// culled lanes' results are dropped), which costs less than moving the
+/// visible ones to the queue.
+const DENSE_BLOCK: usize = 20;
+
+/// The model's results for a batch.
+struct Modelled {
+    theta_deg: [f32; QUEUE],
+    inv_d: [f32; QUEUE],
+    eccentricity_deg: [f32; QUEUE],
+    /// This frame's direction and smoothed velocity (the motion state).
+    dir: [[f32; QUEUE]; 3],
+    velocity: [f32; QUEUE],
+    /// The velocity the model uses (0 for the pursued object).
+    seen_velocity: [f32; QUEUE],
+    threshold_cpd: [f32; QUEUE],
+    k_cdiam: [f32; QUEUE],
+}
+
+/// `conjugate(q) * -rel` (the direction to the camera in the object's
+/// frame) with the operations of glam's SSE2 `Quat * Vec3`, in its order,
+/// so that it rounds the same (`to_object_frame_rounds_like_glam` checks
+/// this); `q` is `[x, y, z, w]`.
+#[cfg(target_feature = "sse2")]
+#[inline(always)]
+fn to_object_frame(q: [f32; 4], rel: [f32; 3]) -> [f32; 3] {
+    let (bx, by, bz, w) = (-q[0], -q[1], -q[2], q[3]);
+    let (vx, vy, vz) = (-rel[0], -rel[1], -rel[2]);
+    let b2 = bx * bx + by * by + bz * bz;
+    let vb2 = (vx * bx + vy * by + vz * bz) * 2.0;
+    let (ww, w2) = (w * w - b2, w * 2.0);
+    // glam's cross product is `a * b - c * d`, fused with FMA.
+    #[cfg(target_feature = "fma")]
+    let mul_sub = |a: f32, b: f32, c: f32, d: f32| (-c).mul_add(d, a * b);
+    #[cfg(not(target_feature = "fma"))]
+    let mul_sub = |a: f32, b: f32, c: f32, d: f32| a * b - c * d;
+    let cx = mul_sub(by, vz, vy, bz);
+    let cy = mul_sub(bz, vx, vz, bx);
+    let cz = mul_sub(bx, vy, vx, by);
+    [
+        vx * ww + bx * vb2 + cx * w2,
+        vy * ww + by * vb2 + cy * w2,
+        vz * ww + bz * vb2 + cz * w2,
+    ]
+}
+
+/// `conjugate(q) * -rel` by glam itself, where its `Quat` is not SSE2.
+#[cfg(not(target_feature = "sse2"))]
+#[inline(always)]
+fn to_object_frame(q: [f32; 4], rel: [f32; 3]) -> [f32; 3] {
+    (Quat::from_array(q).conjugate() * -Vec3::from_array(rel)).to_array()
+}
+
+/// Culls a block into lanes `0..32` of `out`: branch-free over all 32
+/// lanes, so it vectorises. With `NEAREST`, also the direction to the
+/// camera in each object's frame. `visible` is 1 for each visible object
+/// and 0 for each culled one and each lane past `live`.
+#[inline(always)]
+fn cull_block<const CULL: bool, const NEAREST: bool>(
+    c: &FrameConsts<'_>,
+    b: &Block,
+    live: usize,
+    out: &mut Batch,
+    visible: &mut [u32; BLOCK],
+) {
+    let [cx, cy, cz] = c.cam_pos.to_array();
+    let m = c.world_to_eye;
+    let [n0, n1, n2, n3] = c.planes_eye;
+    let f = c.forward_eye;
+    // The `f64` subtraction in a loop of its own: the `f32` work below then
+    // runs 4 lanes at a time.
+    let mut rel = [[0.0f32; BLOCK]; 3];
+    for i in 0..BLOCK {
+        rel[0][i] = (b.x[i] - cx) as f32;
+        rel[1][i] = (b.y[i] - cy) as f32;
+        rel[2][i] = (b.z[i] - cz) as f32;
+    }
+    for i in 0..BLOCK {
+        let (rx, ry, rz) = (rel[0][i], rel[1][i], rel[2][i]);
+        // The operations of `Mat3 * Vec3` and `Vec3::dot`, in their order.
+        let px = m.x_axis.x * rx + m.y_axis.x * ry + m.z_axis.x * rz;
+        let py = m.x_axis.y * rx + m.y_axis.y * ry + m.z_axis.y * rz;
+        let pz = m.x_axis.z * rx + m.y_axis.z * ry + m.z_axis.z * rz;
+        let d2 = px * px + py * py + pz * pz;
+        let r = b.radius[i];
+        if NEAREST {
+            let q = [0, 1, 2, 3].map(|a| b.rotation[a][i]);
+            let d = to_object_frame(q, [rx, ry, rz]);
+            for a in 0..3 {
+                out.to_camera[a][i] = d[a];
+            }
+        }
+        out.p[0][i] = px;
+        out.p[1][i] = py;
+        out.p[2][i] = pz;
+        out.d2[i] = d2;
+        let seen = if CULL {
+            let dot = |n: Vec3| n.x * px + n.y * py + n.z * pz;
+            let outside = fastmath::max(
+                fastmath::max(dot(n0), dot(n1)),
+                fastmath::max(fastmath::max(dot(n2), dot(n3)), -dot(f)),
+            ) > r;
+            d2 <= r * r || !outside
+        } else {
+            true
+        };
+        visible[i] = (seen & (i < live)) as u32;
+    }
+}
+
 #[inline(always)]
 fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     c: &FrameConsts<'_>,
-    objects: &[ObjectRecord],
-    motion: &mut [MotionState],
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
     first_index: u32,
     out: Outputs<'_>,
 ) {
@@ -835,67 +1102,207 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         mut diagnostics,
         mut budget,
     } = out;
-    for (i, ((rec, m), sel)) in objects
-        .iter()
-        .zip(motion.iter_mut())
-        .zip(selections.iter_mut())
-        .enumerate()
-    {
-        let rel = (rec.center - c.cam_pos).as_vec3();
-        let p = c.world_to_eye * rel;
-        let d2 = p.length_squared();
-        let r = rec.radius;
-        let inside = d2 <= r * r;
-        if c.cull && !inside && outside_frustum(c, p, r) {
-            *sel = Selection::CULLED;
-            *m = NO_HISTORY;
-            if let Some(b) = budget.as_deref_mut() {
-                b[i].row = u32::MAX;
+    let pursued = c.pursued.wrapping_sub(first_index);
+    let mut block_batch = EMPTY_BATCH;
+    let mut visible = [0u32; BLOCK];
+    let mut lanes = [0u8; QUEUE];
+    let mut queue = EMPTY_BATCH;
+    let mut queued = 0;
+    let total = selections.len();
+    for (bi, block) in blocks.iter().enumerate() {
+        let base = bi * BLOCK;
+        let live = (total - base).min(BLOCK);
+        let bb = &mut block_batch;
+        if c.cull {
+            cull_block::<true, NEAREST>(c, block, live, bb, &mut visible);
+        } else {
+            cull_block::<false, NEAREST>(c, block, live, bb, &mut visible);
+        }
+        for i in 0..BLOCK {
+            bb.index[i] = (base + i) as u32;
+            bb.radius[i] = block.radius[i];
+        }
+        let mb = &mut motion[bi];
+        if VELOCITY {
+            for i in 0..BLOCK {
+                for a in 0..3 {
+                    bb.dir_before[a][i] = mb.dir_eye[a][i];
+                }
+                let v = mb.velocity_deg_per_s[i];
+                bb.velocity_before[i] = v;
+                // Culled: no history when next seen.
+                mb.velocity_deg_per_s[i] = if visible[i] != 0 { v } else { -1.0 };
             }
+        }
+        // Culled objects' outputs; the visible ones' follow when modelled.
+        selections[base..base + live].fill(Selection::CULLED);
+        if let Some(b) = budget.as_deref_mut() {
+            for e in &mut b[base..base + live] {
+                e.row = u32::MAX;
+            }
+        }
+        // The visible lanes, listed branch-free.
+        let mut n = 0;
+        for (lane, &v) in visible.iter().enumerate() {
+            lanes[n] = lane as u8;
+            n += v as usize;
+        }
+        if n >= DENSE_BLOCK {
+            model::<VELOCITY, ECCENTRICITY, NEAREST>(
+                c,
+                bb,
+                BLOCK,
+                &lanes[..n],
+                blocks,
+                motion,
+                pursued,
+                Outputs {
+                    selections: &mut *selections,
+                    diagnostics: diagnostics.as_deref_mut(),
+                    budget: budget.as_deref_mut(),
+                },
+            );
             continue;
         }
+        // Append the visible lanes to the queue.
+        for &lane in &lanes[..n] {
+            let (lane, at) = (lane as usize % BLOCK, queued % QUEUE);
+            queue.index[at] = bb.index[lane];
+            for a in 0..3 {
+                if NEAREST {
+                    queue.to_camera[a][at] = bb.to_camera[a][lane];
+                }
+                queue.p[a][at] = bb.p[a][lane];
+                if VELOCITY {
+                    queue.dir_before[a][at] = bb.dir_before[a][lane];
+                }
+            }
+            queue.d2[at] = bb.d2[lane];
+            queue.radius[at] = bb.radius[lane];
+            queue.velocity_before[at] = bb.velocity_before[lane];
+            queued += 1;
+        }
+        if queued >= BLOCK {
+            model::<VELOCITY, ECCENTRICITY, NEAREST>(
+                c,
+                &queue,
+                queued,
+                &EVERY_LANE[..queued],
+                blocks,
+                motion,
+                pursued,
+                Outputs {
+                    selections: &mut *selections,
+                    diagnostics: diagnostics.as_deref_mut(),
+                    budget: budget.as_deref_mut(),
+                },
+            );
+            queued = 0;
+        }
+    }
+    if queued > 0 {
+        model::<VELOCITY, ECCENTRICITY, NEAREST>(
+            c,
+            &queue,
+            queued,
+            &EVERY_LANE[..queued],
+            blocks,
+            motion,
+            pursued,
+            Outputs {
+                selections,
+                diagnostics,
+                budget,
+            },
+        );
+    }
+}
+
+/// Models lanes `0..n` of a batch and writes the selections of those
+/// listed in `lanes`: short passes over plain arrays (vectorised), then the
+/// per-object viewpoint lookup and LOD count. `pursued` is the pursued
+/// object's index within the work item.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
+    c: &FrameConsts<'_>,
+    q: &Batch,
+    n: usize,
+    lanes: &[u8],
+    blocks: &[Block],
+    motion: &mut [MotionBlock],
+    pursued: u32,
+    out: Outputs<'_>,
+) {
+    let n = n.min(QUEUE);
+    let mut m = Modelled {
+        theta_deg: [0.0; QUEUE],
+        inv_d: [0.0; QUEUE],
+        eccentricity_deg: [0.0; QUEUE],
+        dir: [[0.0; QUEUE]; 3],
+        velocity: [0.0; QUEUE],
+        seen_velocity: [0.0; QUEUE],
+        threshold_cpd: [0.0; QUEUE],
+        k_cdiam: [0.0; QUEUE],
+    };
+    for i in 0..n {
+        let (d2, r) = (q.d2[i], q.radius[i]);
         let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
         let sin_half = fastmath::min(r * inv_d, 1.0);
-        let theta_deg = if inside {
-            180.0
-        } else {
-            2.0 * fastmath::asin_unchecked(sin_half) * RAD_TO_DEG
-        };
-        let eccentricity_deg = if ECCENTRICITY {
-            let angle_deg =
-                fastmath::acos_unchecked(fastmath::clamp(-p.z * inv_d, -1.0, 1.0)) * RAD_TO_DEG;
-            fastmath::max(angle_deg - 0.5 * theta_deg - c.margin_deg, 0.0)
-        } else {
-            0.0
-        };
-        let velocity_deg_per_s = if VELOCITY {
-            let dir = p * inv_d;
-            let v = if m.velocity_deg_per_s < 0.0 {
-                0.0
-            } else if c.dt_valid {
-                let chord = (dir - m.dir_eye).length();
+        let theta = 2.0 * fastmath::asin_unchecked(sin_half) * RAD_TO_DEG;
+        m.inv_d[i] = inv_d;
+        m.theta_deg[i] = if d2 <= r * r { 180.0 } else { theta };
+    }
+    if ECCENTRICITY {
+        for i in 0..n {
+            let cos = fastmath::clamp(-q.p[2][i] * m.inv_d[i], -1.0, 1.0);
+            let angle_deg = fastmath::acos_unchecked(cos) * RAD_TO_DEG;
+            m.eccentricity_deg[i] =
+                fastmath::max(angle_deg - 0.5 * m.theta_deg[i] - c.margin_deg, 0.0);
+        }
+    }
+    if VELOCITY {
+        let mut chord = [0.0f32; QUEUE];
+        for i in 0..n {
+            let inv_d = m.inv_d[i];
+            let (x, y, z) = (q.p[0][i] * inv_d, q.p[1][i] * inv_d, q.p[2][i] * inv_d);
+            m.dir[0][i] = x;
+            m.dir[1][i] = y;
+            m.dir[2][i] = z;
+            let (ex, ey, ez) = (
+                x - q.dir_before[0][i],
+                y - q.dir_before[1][i],
+                z - q.dir_before[2][i],
+            );
+            chord[i] = (ex * ex + ey * ey + ez * ez).sqrt();
+        }
+        if c.dt_valid {
+            for i in 0..n {
+                let before = q.velocity_before[i];
                 let step_deg =
-                    2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord, 1.0)) * RAD_TO_DEG;
-                let v_now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
-                m.velocity_deg_per_s + c.alpha * (v_now - m.velocity_deg_per_s)
-            } else {
-                m.velocity_deg_per_s
-            };
-            *m = MotionState {
-                dir_eye: dir,
-                velocity_deg_per_s: v,
-            };
-            if first_index + i as u32 == c.pursued {
-                0.0
-            } else {
-                v
+                    2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord[i], 1.0)) * RAD_TO_DEG;
+                let now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
+                let smoothed = before + c.alpha * (now - before);
+                m.velocity[i] = if before < 0.0 { 0.0 } else { smoothed };
             }
         } else {
-            0.0
-        };
+            for i in 0..n {
+                let before = q.velocity_before[i];
+                m.velocity[i] = if before < 0.0 { 0.0 } else { before };
+            }
+        }
+        for i in 0..n {
+            m.seen_velocity[i] = if q.index[i] == pursued {
+                0.0
+            } else {
+                m.velocity[i]
+            };
+        }
+    }
+    for i in 0..n {
         let g = if VELOCITY {
             let v = fastmath::clamp(
-                velocity_deg_per_s,
+                m.seen_velocity[i],
                 VELOCITY_FLOOR_DEG_PER_S,
                 VELOCITY_CEILING_DEG_PER_S,
             );
@@ -909,7 +1316,7 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         };
         let m_factor = if ECCENTRICITY {
             let e = fastmath::clamp(
-                eccentricity_deg,
+                m.eccentricity_deg[i],
                 ECCENTRICITY_FLOOR_DEG,
                 ECCENTRICITY_CEILING_DEG,
             );
@@ -919,37 +1326,371 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             1.0
         };
         let threshold_cpd = c.scale * fastmath::min(g * m_factor, c.limit_cpd);
-        let size_deg = if c.size_on { theta_deg } else { c.fill_deg };
+        let size_deg = if c.size_on {
+            m.theta_deg[i]
+        } else {
+            c.fill_deg
+        };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
-        let k_cdiam = if inside {
+        let (d2, r) = (q.d2[i], q.radius[i]);
+        m.threshold_cpd[i] = threshold_cpd;
+        m.k_cdiam[i] = if d2 <= r * r {
             f32::INFINITY
         } else {
             threshold_cpd * size_deg
         };
-        let profile = &c.profiles[rec.profile as usize];
-        let n = profile.lod_count - 1;
-        let row = match (&profile.views, NEAREST) {
-            (Some(views), true) => {
-                let to_camera_obj = rec.rotation.conjugate() * (-rel);
-                profile.rows_start + (1 + views.nearest(to_camera_obj)) * n
+    }
+    // The cube-map cell of the direction to the camera.
+    let mut cell = [0u32; QUEUE];
+    if NEAREST {
+        for i in 0..n {
+            let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
+            cell[i] = viewpoints::cell_index(d);
+        }
+    }
+    let Outputs {
+        selections,
+        mut diagnostics,
+        mut budget,
+    } = out;
+    // Each object's row first, then the counts: short, independent
+    // iterations overlap better than one long chain of loads.
+    let mut rows = [(0u32, 0u32); QUEUE];
+    for &i in lanes {
+        let i = i as usize % QUEUE;
+        let index = q.index[i] as usize;
+        let profile = c.profiles[blocks[index / BLOCK].profile[index % BLOCK] as usize];
+        let mut row = profile.start;
+        if NEAREST && profile.lookup != NO_LOOKUP {
+            let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
+            let view = c.lookups[profile.lookup as usize].nearest_in_cell(cell[i], d);
+            row += (1 + view as u32) * profile.stride;
+        }
+        rows[i] = (row, profile.stride);
+    }
+    for &i in lanes {
+        let i = i as usize % QUEUE;
+        let index = q.index[i] as usize;
+        let (bi, lane) = (index / BLOCK, index % BLOCK);
+        let (row, stride) = (rows[i].0 as usize, rows[i].1 as usize);
+        let k_cdiam = m.k_cdiam[i];
+        let lod = count_coarser_padded(&c.rows[row..row + stride], k_cdiam);
+        selections[index] = Selection(lod as u8);
+        if VELOCITY {
+            let mb = &mut motion[bi];
+            for a in 0..3 {
+                mb.dir_eye[a][lane] = m.dir[a][i];
             }
-            _ => profile.rows_start,
-        };
-        let lod = count_coarser(&c.rows[row..row + n], k_cdiam);
-        *sel = Selection(lod as u8);
+            mb.velocity_deg_per_s[lane] = m.velocity[i];
+        }
         if let Some(d) = diagnostics.as_deref_mut() {
-            d[i] = Diagnostics {
-                angular_size_deg: theta_deg,
-                eccentricity_deg,
-                velocity_deg_per_s,
-                threshold_cpd,
+            d[index] = Diagnostics {
+                angular_size_deg: m.theta_deg[i],
+                eccentricity_deg: m.eccentricity_deg[i],
+                velocity_deg_per_s: m.seen_velocity[i],
+                threshold_cpd: m.threshold_cpd[i],
             };
         }
         if let Some(b) = budget.as_deref_mut() {
-            b[i] = BudgetEntry {
+            b[index] = BudgetEntry {
                 k_cdiam,
                 row: row as u32,
             };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Tracker;
+    use crate::profile::{PROFILE_FORMAT_VERSION, TransitionFrequencies};
+
+    /// A seeded xorshift generator, uniform in `[-1, 1)` times `scale`.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self, scale: f32) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            ((self.0 >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * scale
+        }
+
+        fn rotation(&mut self) -> Quat {
+            let q = Quat::from_xyzw(self.next(1.0), self.next(1.0), self.next(1.0), 0.5);
+            q.normalize()
+        }
+    }
+
+    fn profile(rng: &mut Rng, lods: usize, views: usize) -> Profile {
+        let viewpoints = (0..views)
+            .map(|_| {
+                let v = Vec3::new(rng.next(1.0), rng.next(1.0), rng.next(1.0) + 0.01);
+                v.normalize().to_array()
+            })
+            .collect();
+        let transitions = (0..views * (lods - 1))
+            .map(|t| TransitionFrequencies {
+                lowest_cdiam: (rng.next(1.0) > -0.8)
+                    .then(|| 200.0 / (1 << (t % (lods - 1))) as f32 * (1.2 + rng.next(0.6))),
+                histogram: vec![],
+            })
+            .collect();
+        Profile {
+            format_version: PROFILE_FORMAT_VERSION,
+            name: "test".into(),
+            lod_triangles: (0..lods).map(|l| 4000 >> l).collect(),
+            bounding_radius: 1.0,
+            viewpoints,
+            histogram_edges_cdiam: vec![],
+            transitions,
+            settings: Default::default(),
+            inputs: vec![],
+        }
+    }
+
+    /// The selection loop one object at a time, as plainly as it can be
+    /// written (REFERENCE §3–§4), with its own motion state.
+    struct Reference {
+        dir_eye: Vec<Vec3>,
+        velocity_deg_per_s: Vec<f32>,
+    }
+
+    impl Reference {
+        fn frame(&mut self, sel: &Selector, frame: &FrameInput) -> Vec<(Selection, Diagnostics)> {
+            let s = &sel.settings;
+            let c = frame_consts(
+                &sel.display,
+                s,
+                &sel.rows,
+                &sel.profile_rows,
+                &sel.lookups,
+                frame,
+                frame.scale,
+            )
+            .unwrap();
+            let mut out = Vec::new();
+            for i in 0..sel.selections.len() {
+                let (b, l) = (&sel.blocks[i / BLOCK], i % BLOCK);
+                let center = DVec3::new(b.x[l], b.y[l], b.z[l]);
+                let r = b.radius[l];
+                let rotation = Quat::from_array([0, 1, 2, 3].map(|a| b.rotation[a][l]));
+                let rel = (center - c.cam_pos).as_vec3();
+                let p = c.world_to_eye * rel;
+                let d2 = p.length_squared();
+                let inside = d2 <= r * r;
+                if c.cull && !inside && outside_frustum(&c, p, r) {
+                    self.velocity_deg_per_s[i] = -1.0;
+                    out.push((Selection::CULLED, Diagnostics::default()));
+                    continue;
+                }
+                let inv_d = 1.0 / d2.max(f32::MIN_POSITIVE).sqrt();
+                let theta_deg = if inside {
+                    180.0
+                } else {
+                    2.0 * fastmath::asin((r * inv_d).min(1.0)) * RAD_TO_DEG
+                };
+                let eccentricity_deg = if s.components.eccentricity {
+                    let angle = fastmath::acos((-p.z * inv_d).clamp(-1.0, 1.0)) * RAD_TO_DEG;
+                    (angle - 0.5 * theta_deg - c.margin_deg).max(0.0)
+                } else {
+                    0.0
+                };
+                let mut velocity = 0.0;
+                if s.components.velocity {
+                    let dir = p * inv_d;
+                    let before = self.velocity_deg_per_s[i];
+                    let v = if before < 0.0 {
+                        0.0
+                    } else if c.dt_valid {
+                        let chord = (dir - self.dir_eye[i]).length();
+                        let step = 2.0 * fastmath::asin((0.5 * chord).min(1.0)) * RAD_TO_DEG;
+                        let now = (step * c.inv_dt).min(MAX_VELOCITY_DEG_PER_S);
+                        before + c.alpha * (now - before)
+                    } else {
+                        before
+                    };
+                    self.dir_eye[i] = dir;
+                    self.velocity_deg_per_s[i] = v;
+                    velocity = if i as u32 == c.pursued { 0.0 } else { v };
+                }
+                let g = if s.components.velocity {
+                    let v = velocity.clamp(VELOCITY_FLOOR_DEG_PER_S, VELOCITY_CEILING_DEG_PER_S);
+                    (57.69 - 27.78 * fastmath::log10(v)).clamp(MIN_ACUITY_CPD, MAX_ACUITY_CPD)
+                } else {
+                    MAX_ACUITY_CPD
+                };
+                let m = if s.components.eccentricity {
+                    let e =
+                        eccentricity_deg.clamp(ECCENTRICITY_FLOOR_DEG, ECCENTRICITY_CEILING_DEG);
+                    let q = 0.3 * e + 1.0;
+                    (7.49 / (q * q)).min(1.0)
+                } else {
+                    1.0
+                };
+                let threshold_cpd = c.scale * (g * m).min(c.limit_cpd);
+                let size = if s.components.size {
+                    theta_deg
+                } else {
+                    c.fill_deg
+                };
+                let k = if inside {
+                    f32::INFINITY
+                } else {
+                    threshold_cpd * size
+                };
+                let profile = b.profile[l] as usize;
+                let rows = sel.profile_rows[profile];
+                let mut row = rows.start as usize;
+                if s.viewpoint_rule == ViewpointRule::Nearest && rows.lookup != NO_LOOKUP {
+                    let view =
+                        sel.lookups[rows.lookup as usize].nearest(rotation.conjugate() * -rel);
+                    row += (1 + view) * rows.stride as usize;
+                }
+                let n = sel.profiles[profile].lod_count - 1;
+                let lod = count_coarser(&sel.rows[row..row + n], k);
+                let diagnostics = Diagnostics {
+                    angular_size_deg: theta_deg,
+                    eccentricity_deg,
+                    velocity_deg_per_s: velocity,
+                    threshold_cpd,
+                };
+                out.push((Selection(lod as u8), diagnostics));
+            }
+            out
+        }
+    }
+
+    /// Runs the loop and the reference side by side over a few frames and
+    /// demands the same selections and diagnostics, bit for bit.
+    fn matches_reference(settings: SelectorSettings, objects: usize, seed: u64) {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed);
+        let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+        let mut sel = Selector::new(display, settings);
+        let mut profiles = vec![];
+        for (lods, views) in [(4, 18), (4, 18), (2, 1), (3, 7), (7, 30), (1, 1)] {
+            profiles.push(sel.add_profile(&profile(&mut rng, lods, views)).unwrap());
+        }
+        let origin = DVec3::new(1e5, -3e6, 1e7) * (seed % 2) as f64;
+        let mut ids = vec![];
+        for k in 0..objects {
+            let offset = if k % 5 == 0 {
+                Vec3::new(rng.next(300.0), rng.next(300.0), rng.next(300.0))
+            } else {
+                let dir = Vec3::new(rng.next(1.3), rng.next(0.9), -1.0).normalize();
+                dir * (rng.next(5.0) + 4.0).exp2()
+            };
+            let radius = if k % 40 == 0 {
+                0.0
+            } else {
+                2.0 + rng.next(1.9)
+            };
+            let p = profiles[((rng.next(0.5) + 0.5) * 6.0) as usize % 6];
+            let desc = ObjectDesc {
+                center: origin + offset.as_dvec3(),
+                radius,
+                rotation: rng.rotation(),
+                profile: p,
+            };
+            ids.push(sel.add_object(desc).unwrap());
+        }
+        let mut reference = Reference {
+            dir_eye: vec![Vec3::ZERO; sel.selections.len()],
+            velocity_deg_per_s: vec![-1.0; sel.selections.len()],
+        };
+        for (f, dt) in [1.0 / 90.0, 1.0 / 90.0, 0.0, -1.0, 0.5, 1.0 / 60.0]
+            .into_iter()
+            .enumerate()
+        {
+            let yaw = 0.3 * f as f32 * (seed % 3) as f32;
+            let frame = FrameInput {
+                camera: Camera {
+                    position: origin + DVec3::new(0.1, 0.02, -0.3) * f as f64,
+                    orientation: Quat::from_rotation_y(yaw) * Quat::from_rotation_x(0.01),
+                },
+                gaze: Gaze {
+                    pursued: Some(ids[f * 7 % ids.len()]),
+                    ..Gaze::at_screen_angles(5.0, -2.0, Tracker::eye_default())
+                },
+                dt_s: dt,
+                scale: if f == 4 { 0.3 } else { 1.0 },
+            };
+            let expected = reference.frame(&sel, &frame);
+            sel.select_with_diagnostics(&frame).unwrap();
+            for (i, &(selection, diagnostics)) in expected.iter().enumerate() {
+                assert_eq!(sel.selections[i], selection, "object {i}, frame {f}");
+                if !selection.is_culled() {
+                    let bits = |d: Diagnostics| {
+                        [
+                            d.angular_size_deg,
+                            d.eccentricity_deg,
+                            d.velocity_deg_per_s,
+                            d.threshold_cpd,
+                        ]
+                        .map(f32::to_bits)
+                    };
+                    let got = bits(sel.diagnostics[i]);
+                    assert_eq!(got, bits(diagnostics), "object {i}, frame {f}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_loop_matches_a_scalar_reference_bit_for_bit() {
+        for k in 0..32u64 {
+            let settings = SelectorSettings {
+                components: Components {
+                    size: k & 1 != 0,
+                    velocity: k & 2 != 0,
+                    eccentricity: k & 4 != 0,
+                },
+                cull: k & 8 != 0,
+                viewpoint_rule: if k & 16 != 0 {
+                    ViewpointRule::WorstCase
+                } else {
+                    ViewpointRule::Nearest
+                },
+                ..Default::default()
+            };
+            matches_reference(settings, 700 + k as usize, k);
+        }
+    }
+
+    #[cfg(feature = "parallel")]
+    #[test]
+    fn the_parallel_loop_matches_a_scalar_reference_bit_for_bit() {
+        let settings = SelectorSettings {
+            parallel_min_objects: 0,
+            ..Default::default()
+        };
+        matches_reference(settings, 3 * CHUNK + 77, 5);
+    }
+
+    #[test]
+    fn to_object_frame_rounds_like_glam() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |scale: f32| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * scale
+        };
+        for k in 0..200_000 {
+            let q = Quat::from_xyzw(next(1.0), next(1.0), next(1.0), next(1.0));
+            let Ok(q) = normalized_rotation(q, "q") else {
+                continue;
+            };
+            let scale = [1e-3, 1.0, 1e3, 1e7][k % 4];
+            let rel = Vec3::new(next(scale), next(scale), next(scale));
+            let glam = q.conjugate() * (-rel);
+            let ours = to_object_frame(q.to_array(), rel.to_array());
+            assert_eq!(
+                ours.map(f32::to_bits),
+                glam.to_array().map(f32::to_bits),
+                "{q} {rel}"
+            );
         }
     }
 }

@@ -69,14 +69,23 @@ impl ViewpointLookup {
         Self { directions, cells }
     }
 
+    /// The viewpoint directions, unit vectors.
+    pub(crate) fn directions(&self) -> &[Vec3] {
+        &self.directions
+    }
+
     /// The index of the viewpoint nearest to `dir` (any non-zero vector;
     /// zero or non-finite vectors give some valid index).
-    #[inline(always)]
+    #[cfg(test)]
     pub(crate) fn nearest(&self, dir: Vec3) -> usize {
-        let (face, u, v) = cube_coords(dir);
-        let i = (((u + 1.0) * (0.5 * RESOLUTION as f32)) as usize).min(RESOLUTION - 1);
-        let j = (((v + 1.0) * (0.5 * RESOLUTION as f32)) as usize).min(RESOLUTION - 1);
-        let [a, b] = self.cells[(face * RESOLUTION + j) * RESOLUTION + i];
+        self.nearest_in_cell(cell_index(dir), dir)
+    }
+
+    /// [`nearest`](Self::nearest) with `cell = cell_index(dir)` computed
+    /// beforehand (in bulk: [`cell_index`] vectorises).
+    #[inline(always)]
+    pub(crate) fn nearest_in_cell(&self, cell: u32, dir: Vec3) -> usize {
+        let [a, b] = self.cells[cell as usize];
         if a == SCAN {
             return nearest_with_margin(&self.directions, dir).0;
         }
@@ -109,6 +118,32 @@ fn nearest_with_margin(directions: &[Vec3], d: Vec3) -> (usize, bool) {
     (best.0, best.1 - second > TIE_MARGIN)
 }
 
+/// The cube-map cell of a direction (any vector; zero or non-finite ones
+/// give some cell), below `6 * RESOLUTION^2`. Straight-line code on `f32`
+/// and `u32`, so loops over it vectorise.
+#[inline(always)]
+pub(crate) fn cell_index(dir: Vec3) -> u32 {
+    let (face, u, v) = cube_coords(dir);
+    (face * RESOLUTION as u32 + cell(v)) * RESOLUTION as u32 + cell(u)
+}
+
+/// The cell along one face axis of face coordinate `u` in `[-1, 1]`:
+/// `floor((u + 1) R / 2)` clamped into `0..R` (`NaN`: 0), as a float to
+/// integer cast would give, but from the bits of `x + 2^23` (which is `x`
+/// rounded to an integer) less one where that rounded up.
+#[inline(always)]
+fn cell(u: f32) -> u32 {
+    const TWO_POW_23: f32 = 8_388_608.0;
+    let x = crate::fastmath::clamp(
+        (u + 1.0) * (0.5 * RESOLUTION as f32),
+        0.0,
+        (RESOLUTION - 1) as f32,
+    );
+    let t = x + TWO_POW_23;
+    let rounded_up = (t - TWO_POW_23 > x) as u32;
+    (t.to_bits() & 0xff) - rounded_up
+}
+
 /// The point on the cube's face `face` at face coordinates `(u, v)` in
 /// `[-1, 1]`. Faces: 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
 fn face_point(face: usize, u: f64, v: f64) -> glam::DVec3 {
@@ -127,7 +162,7 @@ fn face_point(face: usize, u: f64, v: f64) -> glam::DVec3 {
 /// and the face coordinates of its central projection. Written with
 /// selects rather than branches: the face is random from object to object.
 #[inline(always)]
-fn cube_coords(d: Vec3) -> (usize, f32, f32) {
+fn cube_coords(d: Vec3) -> (u32, f32, f32) {
     let a = d.abs();
     let x_major = (a.x >= a.y) & (a.x >= a.z);
     let y_major = !x_major & (a.y >= a.z);
@@ -137,7 +172,8 @@ fn cube_coords(d: Vec3) -> (usize, f32, f32) {
     let signed = d.x * xm + d.y * ym + d.z * zm;
     let u = d.y * xm + d.x * (1.0 - xm);
     let v = d.z * (1.0 - zm) + d.y * zm;
-    let face = 2 * (y_major as usize) + 4 * (zm as usize) + (signed < 0.0) as usize;
+    let z_major = !x_major & !y_major;
+    let face = 2 * (y_major as u32) + 4 * (z_major as u32) + (signed < 0.0) as u32;
     let inv = 1.0 / major;
     (face, u * inv, v * inv)
 }
@@ -183,6 +219,20 @@ mod tests {
         }
         let scan = lookup.scan_fraction();
         assert!(scan < 0.05, "{scan} of cells need a scan");
+    }
+
+    #[test]
+    fn cell_floors_like_a_cast() {
+        let cast = |u: f32| (((u + 1.0) * (0.5 * RESOLUTION as f32)) as usize).min(RESOLUTION - 1);
+        let mut us = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1.5, 1.5, 2.0];
+        for k in 0..=2 * RESOLUTION {
+            let u = k as f32 / RESOLUTION as f32 - 1.0;
+            us.extend([u, u.next_up(), u.next_down()]);
+        }
+        us.extend((0..100_001).map(|i| i as f32 / 50_000.0 - 1.0));
+        for u in us {
+            assert_eq!(cell(u) as usize, cast(u), "u = {u}");
+        }
     }
 
     #[test]
