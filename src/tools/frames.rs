@@ -28,9 +28,6 @@ pub const NEAR_PLANE_M: f32 = 0.05;
 /// pass, so silhouettes have the contrast the profiles measured.
 pub const BACKGROUND_SRGB: [u8; 3] = [0, 0, 0];
 
-/// The analysis settings `acuity run` uses for profiles it has to make:
-/// those of `acuity preprocess` with its default arguments (512 px images
-/// from 18 viewpoints), so the two commands share cached profiles.
 /// One object of the world: its LOD meshes on the GPU and its profile.
 #[derive(Debug, Clone)]
 pub struct WorldObject {

@@ -799,39 +799,31 @@ impl<'t> Ctx<'t> {
     }
 
     fn profiles(&self, p: RawProfiles) -> Res<ProfileSpec> {
-        if let Some(r) = p.resolution
-            && !(16..=8192).contains(&r)
-        {
-            return Err(self.invalid(
-                "profiles.resolution",
-                format!("{r} pixels is outside 16..=8192"),
-            ));
-        }
-        let max_level = acuity_preprocess::views::MAX_VIEWPOINT_LEVEL;
-        if let Some(v) = p.viewpoints
-            && v > max_level
-        {
-            return Err(self.invalid(
-                "profiles.viewpoints",
-                format!("level {v} is above {max_level}"),
-            ));
-        }
-        if let Some(t) = p.threshold_delta_e
-            && !(t > 0.0)
-        {
-            return Err(self.invalid("profiles.threshold_delta_e", format!("{t} must be > 0")));
-        }
         let statistic = p
             .statistic
             .map(|s| super::run::parse_statistic(&s))
             .transpose()
             .map_err(|reason| self.invalid("profiles.statistic", reason))?;
-        Ok(ProfileSpec {
+        let spec = ProfileSpec {
             resolution_px: p.resolution,
             viewpoint_level: p.viewpoints,
             statistic,
             threshold_delta_e: p.threshold_delta_e,
-        })
+        };
+        // The offline pass's own domain check; its defaults are valid, so a
+        // failure names one of this table's keys.
+        match spec.analysis_settings().validate() {
+            Err(acuity_preprocess::Error::Settings { field, message }) => {
+                let key = match field {
+                    "resolution_px" => "resolution",
+                    "viewpoint_level" => "viewpoints",
+                    other => other,
+                };
+                Err(self.invalid(format!("profiles.{key}"), message))
+            }
+            Err(e) => Err(self.invalid("profiles", e.to_string())),
+            Ok(()) => Ok(spec),
+        }
     }
 
     fn display(&self, d: RawDisplay) -> Res<DisplaySpec> {
