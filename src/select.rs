@@ -21,9 +21,12 @@
 //! more of them are modelled together (a block with most objects visible is
 //! modelled whole, which costs less than queueing), in short passes over
 //! plain arrays that the compiler vectorises (branch-free polynomial
-//! `asin`/`acos`/`log10`, [`crate::fastmath`]), followed by the per-object
-//! viewpoint lookup and LOD count. Profiles with the same viewpoints share
-//! one lookup table. The loop is monomorphised over the velocity,
+//! `asin`/`acos`/`log10`, [`crate::fastmath`]), then the viewpoint lookup
+//! and the LOD count. Profiles with the same viewpoints share one lookup
+//! table; when every profile with more than one LOD has the same row
+//! stride and lookup (the profiles of one offline pass), rows are found and
+//! LODs counted in straight-line passes too, and a dense block's outputs
+//! are written by masks rather than object by object. The loop is monomorphised over the velocity,
 //! eccentricity and nearest-viewpoint switches, so a switched-off component
 //! costs nothing, allocates nothing, and runs on rayon (feature `parallel`)
 //! above [`SelectorSettings::parallel_min_objects`].
@@ -247,8 +250,42 @@ struct CompiledProfile {
 struct ProfileRows {
     start: u32,
     stride: u32,
-    /// Index into [`Selector::lookups`], or [`NO_LOOKUP`] for one viewpoint.
+    /// Index into [`Selector::lookups`], or [`NO_LOOKUP`] for one viewpoint
+    /// or the worst-case rule.
     lookup: u32,
+}
+
+/// How the profiles' rows are laid out, over the profiles with more than
+/// one LOD: with one stride and one viewpoint lookup for all of them (one
+/// offline pass's profiles), the loop finds rows and counts LODs in bulk.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RowLayout {
+    /// No profile with more than one LOD yet.
+    Empty,
+    /// Every row has `stride` entries; `lookup` is the one viewpoint
+    /// lookup ([`NO_LOOKUP`]: none, or the worst-case rule).
+    Uniform { stride: u32, lookup: u32 },
+    /// Strides or lookups differ: rows are found object by object.
+    Mixed,
+}
+
+impl RowLayout {
+    fn admit(self, stride: u32, lookup: u32) -> Self {
+        match self {
+            Self::Empty => Self::Uniform { stride, lookup },
+            Self::Uniform { .. } if self == (Self::Uniform { stride, lookup }) => self,
+            _ => Self::Mixed,
+        }
+    }
+}
+
+/// The selector's per-profile tables, borrowed for a frame.
+struct Tables<'a> {
+    rows: &'a [f32],
+    profiles: &'a [ProfileRows],
+    lookups: &'a [ViewpointLookup],
+    row0: &'a [u32],
+    layout: RowLayout,
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -284,6 +321,9 @@ pub struct Selector {
     profile_rows: Vec<ProfileRows>,
     /// Viewpoint lookups, one per distinct viewpoint set.
     lookups: Vec<ViewpointLookup>,
+    /// Per profile: see [`FrameConsts::row0`].
+    profile_row0: Vec<u32>,
+    layout: RowLayout,
     rows: Vec<f32>,
     /// Objects with more than one LOD: object `i` is lane `i % 32` of
     /// block `i / 32`.
@@ -322,6 +362,10 @@ struct FrameConsts<'a> {
     rows: &'a [f32],
     profiles: &'a [ProfileRows],
     lookups: &'a [ViewpointLookup],
+    /// Per profile: the start of the row its objects use (viewpoint 0's
+    /// with the nearest-viewpoint rule and a lookup, else the worst case).
+    row0: &'a [u32],
+    layout: RowLayout,
 }
 
 impl Selector {
@@ -333,6 +377,8 @@ impl Selector {
             profiles: Vec::new(),
             profile_rows: Vec::new(),
             lookups: Vec::new(),
+            profile_row0: Vec::new(),
+            layout: RowLayout::Empty,
             rows: Vec::new(),
             blocks: Vec::new(),
             motion: Vec::new(),
@@ -380,7 +426,8 @@ impl Selector {
             }
         }
         self.rows.extend_from_slice(&rows);
-        let lookup = if views > 1 && n > 0 {
+        let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
+        let lookup = if nearest && views > 1 && n > 0 {
             let directions: Vec<Vec3> = profile
                 .viewpoints
                 .iter()
@@ -400,6 +447,11 @@ impl Selector {
         } else {
             NO_LOOKUP
         };
+        let viewed = (lookup != NO_LOOKUP) as usize;
+        self.profile_row0.push((start + viewed * stride) as u32);
+        if profile.lod_count() > 1 {
+            self.layout = self.layout.admit(stride as u32, lookup);
+        }
         self.profile_rows.push(ProfileRows {
             start: start as u32,
             stride: stride as u32,
@@ -697,9 +749,13 @@ impl Selector {
         let c = frame_consts(
             &self.display,
             &self.settings,
-            &self.rows,
-            &self.profile_rows,
-            &self.lookups,
+            Tables {
+                rows: &self.rows,
+                profiles: &self.profile_rows,
+                lookups: &self.lookups,
+                row0: &self.profile_row0,
+                layout: self.layout,
+            },
             frame,
             scale_override,
         )?;
@@ -746,9 +802,7 @@ impl Selector {
 fn frame_consts<'a>(
     display: &Display,
     settings: &SelectorSettings,
-    rows: &'a [f32],
-    profiles: &'a [ProfileRows],
-    lookups: &'a [ViewpointLookup],
+    tables: Tables<'a>,
     frame: &FrameInput,
     scale_override: f32,
 ) -> Result<FrameConsts<'a>> {
@@ -795,9 +849,11 @@ fn frame_consts<'a>(
         inv_dt: if dt_valid { 1.0 / dt } else { 0.0 },
         alpha,
         pursued,
-        rows,
-        profiles,
-        lookups,
+        rows: tables.rows,
+        profiles: tables.profiles,
+        lookups: tables.lookups,
+        row0: tables.row0,
+        layout: tables.layout,
     })
 }
 
@@ -953,6 +1009,8 @@ struct Batch {
     /// Squared distance.
     d2: [f32; QUEUE],
     radius: [f32; QUEUE],
+    /// Index into the selector's profiles.
+    profile: [u32; QUEUE],
     /// Last frame's direction and velocity (with the velocity component).
     dir_before: [[f32; QUEUE]; 3],
     velocity_before: [f32; QUEUE],
@@ -964,19 +1022,9 @@ const EMPTY_BATCH: Batch = Batch {
     p: [[0.0; QUEUE]; 3],
     d2: [0.0; QUEUE],
     radius: [0.0; QUEUE],
+    profile: [0; QUEUE],
     dir_before: [[0.0; QUEUE]; 3],
     velocity_before: [0.0; QUEUE],
-};
-
-/// `0, 1, 2, ...`: every lane of a queue.
-const EVERY_LANE: [u8; QUEUE] = {
-    let mut lanes = [0; QUEUE];
-    let mut i = 0;
-    while i < QUEUE {
-        lanes[i] = i as u8;
-        i += 1;
-    }
-    lanes
 };
 
 /// Blocks with at least this many visible objects are modelled whole (the
@@ -996,7 +1044,30 @@ struct Modelled {
     seen_velocity: [f32; QUEUE],
     threshold_cpd: [f32; QUEUE],
     k_cdiam: [f32; QUEUE],
+    /// Cube-map cell of the direction to the camera (nearest viewpoint).
+    cell: [u32; QUEUE],
+    /// The viewpoint whose row applies.
+    view: [u32; QUEUE],
+    /// Start of the object's prefix-minimum row in the selector's rows.
+    row: [u32; QUEUE],
+    /// The chosen LOD.
+    lod: [u32; QUEUE],
 }
+
+const EMPTY_MODELLED: Modelled = Modelled {
+    theta_deg: [0.0; QUEUE],
+    inv_d: [0.0; QUEUE],
+    eccentricity_deg: [0.0; QUEUE],
+    dir: [[0.0; QUEUE]; 3],
+    velocity: [0.0; QUEUE],
+    seen_velocity: [0.0; QUEUE],
+    threshold_cpd: [0.0; QUEUE],
+    k_cdiam: [0.0; QUEUE],
+    cell: [0; QUEUE],
+    view: [0; QUEUE],
+    row: [0; QUEUE],
+    lod: [0; QUEUE],
+};
 
 /// `conjugate(q) * -rel` (the direction to the camera in the object's
 /// frame) with the operations of glam's SSE2 `Quat * Vec3`, in its order,
@@ -1108,6 +1179,7 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     let mut lanes = [0u8; QUEUE];
     let mut queue = EMPTY_BATCH;
     let mut queued = 0;
+    let mut m = EMPTY_MODELLED;
     let total = selections.len();
     for (bi, block) in blocks.iter().enumerate() {
         let base = bi * BLOCK;
@@ -1121,6 +1193,7 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         for i in 0..BLOCK {
             bb.index[i] = (base + i) as u32;
             bb.radius[i] = block.radius[i];
+            bb.profile[i] = block.profile[i];
         }
         let mb = &mut motion[bi];
         if VELOCITY {
@@ -1128,14 +1201,9 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 for a in 0..3 {
                     bb.dir_before[a][i] = mb.dir_eye[a][i];
                 }
-                let v = mb.velocity_deg_per_s[i];
-                bb.velocity_before[i] = v;
-                // Culled: no history when next seen.
-                mb.velocity_deg_per_s[i] = if visible[i] != 0 { v } else { -1.0 };
+                bb.velocity_before[i] = mb.velocity_deg_per_s[i];
             }
         }
-        // Culled objects' outputs; the visible ones' follow when modelled.
-        selections[base..base + live].fill(Selection::CULLED);
         if let Some(b) = budget.as_deref_mut() {
             for e in &mut b[base..base + live] {
                 e.row = u32::MAX;
@@ -1148,26 +1216,34 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             n += v as usize;
         }
         if n >= DENSE_BLOCK {
-            model::<VELOCITY, ECCENTRICITY, NEAREST>(
-                c,
+            model::<VELOCITY, ECCENTRICITY, NEAREST>(c, bb, BLOCK, pursued, &mut m);
+            write_block::<VELOCITY>(
                 bb,
-                BLOCK,
+                &m,
+                &visible,
                 &lanes[..n],
-                blocks,
-                motion,
-                pursued,
-                Outputs {
-                    selections: &mut *selections,
-                    diagnostics: diagnostics.as_deref_mut(),
-                    budget: budget.as_deref_mut(),
-                },
+                &mut selections[base..base + live],
+                &mut motion[bi],
+                diagnostics.as_deref_mut(),
+                budget.as_deref_mut(),
             );
             continue;
+        }
+        // Culled: LOD "culled" and no velocity history when next seen; the
+        // visible objects' outputs follow when the queue is modelled.
+        selections[base..base + live].fill(Selection::CULLED);
+        if VELOCITY {
+            let mb = &mut motion[bi];
+            for i in 0..BLOCK {
+                let v = mb.velocity_deg_per_s[i];
+                mb.velocity_deg_per_s[i] = if visible[i] != 0 { v } else { -1.0 };
+            }
         }
         // Append the visible lanes to the queue.
         for &lane in &lanes[..n] {
             let (lane, at) = (lane as usize % BLOCK, queued % QUEUE);
             queue.index[at] = bb.index[lane];
+            queue.profile[at] = bb.profile[lane];
             for a in 0..3 {
                 if NEAREST {
                     queue.to_camera[a][at] = bb.to_camera[a][lane];
@@ -1183,68 +1259,42 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             queued += 1;
         }
         if queued >= BLOCK {
-            model::<VELOCITY, ECCENTRICITY, NEAREST>(
-                c,
+            model::<VELOCITY, ECCENTRICITY, NEAREST>(c, &queue, queued, pursued, &mut m);
+            write_queue::<VELOCITY>(
                 &queue,
+                &m,
                 queued,
-                &EVERY_LANE[..queued],
-                blocks,
+                selections,
                 motion,
-                pursued,
-                Outputs {
-                    selections: &mut *selections,
-                    diagnostics: diagnostics.as_deref_mut(),
-                    budget: budget.as_deref_mut(),
-                },
+                diagnostics.as_deref_mut(),
+                budget.as_deref_mut(),
             );
             queued = 0;
         }
     }
     if queued > 0 {
-        model::<VELOCITY, ECCENTRICITY, NEAREST>(
-            c,
-            &queue,
-            queued,
-            &EVERY_LANE[..queued],
-            blocks,
-            motion,
-            pursued,
-            Outputs {
-                selections,
-                diagnostics,
-                budget,
-            },
-        );
+        model::<VELOCITY, ECCENTRICITY, NEAREST>(c, &queue, queued, pursued, &mut m);
+        write_queue::<VELOCITY>(&queue, &m, queued, selections, motion, diagnostics, budget);
     }
 }
 
-/// Models lanes `0..n` of a batch and writes the selections of those
-/// listed in `lanes`: short passes over plain arrays (vectorised), then the
-/// per-object viewpoint lookup and LOD count. `pursued` is the pursued
-/// object's index within the work item.
-#[allow(clippy::too_many_arguments)]
+/// Models lanes `0..n` of a batch into `m`, up to each object's LOD: short
+/// passes over plain arrays (vectorised), then the viewpoint lookup and
+/// the LOD count, in bulk where every profile shares one row layout.
+/// `pursued` is the pursued object's index within the work item.
 #[inline(always)]
 fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     c: &FrameConsts<'_>,
     q: &Batch,
     n: usize,
-    lanes: &[u8],
-    blocks: &[Block],
-    motion: &mut [MotionBlock],
     pursued: u32,
-    out: Outputs<'_>,
+    m: &mut Modelled,
 ) {
     let n = n.min(QUEUE);
-    let mut m = Modelled {
-        theta_deg: [0.0; QUEUE],
-        inv_d: [0.0; QUEUE],
-        eccentricity_deg: [0.0; QUEUE],
-        dir: [[0.0; QUEUE]; 3],
-        velocity: [0.0; QUEUE],
-        seen_velocity: [0.0; QUEUE],
-        threshold_cpd: [0.0; QUEUE],
-        k_cdiam: [0.0; QUEUE],
-    };
+    // The frame's constants as locals: `m` is written through a reference,
+    // and loops that read `c` through one as well do not vectorise.
+    let (margin_deg, inv_dt, alpha) = (c.margin_deg, c.inv_dt, c.alpha);
+    let (scale, limit_cpd, size_on, fill_deg) = (c.scale, c.limit_cpd, c.size_on, c.fill_deg);
     for i in 0..n {
         let (d2, r) = (q.d2[i], q.radius[i]);
         let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
@@ -1258,7 +1308,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             let cos = fastmath::clamp(-q.p[2][i] * m.inv_d[i], -1.0, 1.0);
             let angle_deg = fastmath::acos_unchecked(cos) * RAD_TO_DEG;
             m.eccentricity_deg[i] =
-                fastmath::max(angle_deg - 0.5 * m.theta_deg[i] - c.margin_deg, 0.0);
+                fastmath::max(angle_deg - 0.5 * m.theta_deg[i] - margin_deg, 0.0);
         }
     }
     if VELOCITY {
@@ -1281,8 +1331,8 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 let before = q.velocity_before[i];
                 let step_deg =
                     2.0 * fastmath::asin_unchecked(fastmath::min(0.5 * chord[i], 1.0)) * RAD_TO_DEG;
-                let now = fastmath::min(step_deg * c.inv_dt, MAX_VELOCITY_DEG_PER_S);
-                let smoothed = before + c.alpha * (now - before);
+                let now = fastmath::min(step_deg * inv_dt, MAX_VELOCITY_DEG_PER_S);
+                let smoothed = before + alpha * (now - before);
                 m.velocity[i] = if before < 0.0 { 0.0 } else { smoothed };
             }
         } else {
@@ -1325,12 +1375,8 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         } else {
             1.0
         };
-        let threshold_cpd = c.scale * fastmath::min(g * m_factor, c.limit_cpd);
-        let size_deg = if c.size_on {
-            m.theta_deg[i]
-        } else {
-            c.fill_deg
-        };
+        let threshold_cpd = scale * fastmath::min(g * m_factor, limit_cpd);
+        let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
         let (d2, r) = (q.d2[i], q.radius[i]);
         m.threshold_cpd[i] = threshold_cpd;
@@ -1341,48 +1387,157 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         };
     }
     // The cube-map cell of the direction to the camera.
-    let mut cell = [0u32; QUEUE];
     if NEAREST {
         for i in 0..n {
             let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
-            cell[i] = viewpoints::cell_index(d);
+            m.cell[i] = viewpoints::cell_index(d);
         }
     }
-    let Outputs {
-        selections,
-        mut diagnostics,
-        mut budget,
-    } = out;
-    // Each object's row first, then the counts: short, independent
-    // iterations overlap better than one long chain of loads.
-    let mut rows = [(0u32, 0u32); QUEUE];
-    for &i in lanes {
-        let i = i as usize % QUEUE;
-        let index = q.index[i] as usize;
-        let profile = c.profiles[blocks[index / BLOCK].profile[index % BLOCK] as usize];
-        let mut row = profile.start;
-        if NEAREST && profile.lookup != NO_LOOKUP {
-            let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
-            let view = c.lookups[profile.lookup as usize].nearest_in_cell(cell[i], d);
-            row += (1 + view as u32) * profile.stride;
+    match c.layout {
+        RowLayout::Uniform { stride, lookup } => {
+            let row0 = c.row0;
+            let last = row0.len().saturating_sub(1);
+            if NEAREST && lookup != NO_LOOKUP {
+                let dirs = [0, 1, 2].map(|a| &q.to_camera[a][..n]);
+                c.lookups[lookup as usize].nearest_batch(&m.cell[..n], dirs, &mut m.view[..n]);
+            } else {
+                m.view[..n].fill(0);
+            }
+            for i in 0..n {
+                m.row[i] = row0[(q.profile[i] as usize).min(last)] + m.view[i] * stride;
+            }
+            if stride == 4 {
+                count_rows::<4>(c.rows, &m.row[..n], &m.k_cdiam[..n], &mut m.lod[..n]);
+            } else {
+                for i in 0..n {
+                    let row = &c.rows[m.row[i] as usize..][..stride as usize];
+                    m.lod[i] = count_coarser_padded(row, m.k_cdiam[i]) as u32;
+                }
+            }
         }
-        rows[i] = (row, profile.stride);
+        RowLayout::Empty | RowLayout::Mixed => {
+            // Each object's row first, then the counts: short, independent
+            // iterations overlap better than one long chain of loads.
+            let mut strides = [0u32; QUEUE];
+            for i in 0..n {
+                let profile = c.profiles[q.profile[i] as usize];
+                let mut row = profile.start;
+                if NEAREST && profile.lookup != NO_LOOKUP {
+                    let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
+                    let view = c.lookups[profile.lookup as usize].nearest_in_cell(m.cell[i], d);
+                    row += (1 + view as u32) * profile.stride;
+                }
+                m.row[i] = row;
+                strides[i] = profile.stride;
+            }
+            for i in 0..n {
+                let row = &c.rows[m.row[i] as usize..][..strides[i] as usize];
+                m.lod[i] = count_coarser_padded(row, m.k_cdiam[i]) as u32;
+            }
+        }
     }
-    for &i in lanes {
-        let i = i as usize % QUEUE;
+}
+
+/// The LOD counts of rows of `STRIDE` entries (a multiple of 4) starting
+/// at `starts`, against `k_cdiam`: straight-line loads and compares.
+#[inline(always)]
+fn count_rows<const STRIDE: usize>(
+    rows: &[f32],
+    starts: &[u32],
+    k_cdiam: &[f32],
+    lods: &mut [u32],
+) {
+    let n = starts.len().min(k_cdiam.len()).min(lods.len());
+    if rows.len() < STRIDE {
+        return;
+    }
+    let last = rows.len() - STRIDE;
+    for i in 0..n {
+        let row = &rows[(starts[i] as usize).min(last)..][..STRIDE];
+        let k = k_cdiam[i];
+        lods[i] = row.iter().map(|&f| (f > k) as u32).sum();
+    }
+}
+
+/// Writes a block's outputs after modelling it whole: every lane's
+/// selection and motion state, blended with culled (`visible[i] == 0`),
+/// branch-free; diagnostics and budget entries of the `lanes` listed.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn write_block<const VELOCITY: bool>(
+    q: &Batch,
+    m: &Modelled,
+    visible: &[u32; BLOCK],
+    lanes: &[u8],
+    selections: &mut [Selection],
+    mb: &mut MotionBlock,
+    diagnostics: Option<&mut [Diagnostics]>,
+    budget: Option<&mut [BudgetEntry]>,
+) {
+    // Blends by bit masks: the compiler turns `if` here into branches,
+    // which mispredict on every culled lane.
+    let mask = |i: usize| 0u32.wrapping_sub(visible[i]);
+    let blend = |mask: u32, new: f32, old: f32| {
+        f32::from_bits((new.to_bits() & mask) | (old.to_bits() & !mask))
+    };
+    for (i, sel) in selections.iter_mut().enumerate().take(BLOCK) {
+        // Culled is `u8::MAX`: every bit set.
+        *sel = Selection((m.lod[i] | !mask(i)) as u8);
+    }
+    if VELOCITY {
+        for i in 0..BLOCK {
+            let mask = mask(i);
+            for a in 0..3 {
+                mb.dir_eye[a][i] = blend(mask, m.dir[a][i], mb.dir_eye[a][i]);
+            }
+            mb.velocity_deg_per_s[i] = blend(mask, m.velocity[i], -1.0);
+        }
+    }
+    if diagnostics.is_some() || budget.is_some() {
+        write_extras(q, m, lanes.iter().map(|&l| l as usize), diagnostics, budget);
+    }
+}
+
+/// Writes the outputs of lanes `0..n` of the queue, object by object.
+#[inline(always)]
+fn write_queue<const VELOCITY: bool>(
+    q: &Batch,
+    m: &Modelled,
+    n: usize,
+    selections: &mut [Selection],
+    motion: &mut [MotionBlock],
+    diagnostics: Option<&mut [Diagnostics]>,
+    budget: Option<&mut [BudgetEntry]>,
+) {
+    let n = n.min(QUEUE);
+    for i in 0..n {
         let index = q.index[i] as usize;
-        let (bi, lane) = (index / BLOCK, index % BLOCK);
-        let (row, stride) = (rows[i].0 as usize, rows[i].1 as usize);
-        let k_cdiam = m.k_cdiam[i];
-        let lod = count_coarser_padded(&c.rows[row..row + stride], k_cdiam);
-        selections[index] = Selection(lod as u8);
+        selections[index] = Selection(m.lod[i] as u8);
         if VELOCITY {
-            let mb = &mut motion[bi];
+            let mb = &mut motion[index / BLOCK];
+            let lane = index % BLOCK;
             for a in 0..3 {
                 mb.dir_eye[a][lane] = m.dir[a][i];
             }
             mb.velocity_deg_per_s[lane] = m.velocity[i];
         }
+    }
+    if diagnostics.is_some() || budget.is_some() {
+        write_extras(q, m, 0..n, diagnostics, budget);
+    }
+}
+
+/// Diagnostics and budget entries of the given lanes.
+fn write_extras(
+    q: &Batch,
+    m: &Modelled,
+    lanes: impl Iterator<Item = usize>,
+    mut diagnostics: Option<&mut [Diagnostics]>,
+    mut budget: Option<&mut [BudgetEntry]>,
+) {
+    for i in lanes {
+        let i = i % QUEUE;
+        let index = q.index[i] as usize;
         if let Some(d) = diagnostics.as_deref_mut() {
             d[index] = Diagnostics {
                 angular_size_deg: m.theta_deg[i],
@@ -1393,8 +1548,8 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         }
         if let Some(b) = budget.as_deref_mut() {
             b[index] = BudgetEntry {
-                k_cdiam,
-                row: row as u32,
+                k_cdiam: m.k_cdiam[i],
+                row: m.row[i],
             };
         }
     }
@@ -1463,9 +1618,13 @@ mod tests {
             let c = frame_consts(
                 &sel.display,
                 s,
-                &sel.rows,
-                &sel.profile_rows,
-                &sel.lookups,
+                Tables {
+                    rows: &sel.rows,
+                    profiles: &sel.profile_rows,
+                    lookups: &sel.lookups,
+                    row0: &sel.profile_row0,
+                    layout: sel.layout,
+                },
                 frame,
                 frame.scale,
             )
@@ -1562,16 +1721,33 @@ mod tests {
         }
     }
 
+    /// Profiles of different LOD and viewpoint counts: rows found object
+    /// by object.
+    const MIXED: [(usize, usize); 6] = [(4, 18), (4, 18), (2, 1), (3, 7), (7, 30), (1, 1)];
+
     /// Runs the loop and the reference side by side over a few frames and
-    /// demands the same selections and diagnostics, bit for bit.
-    fn matches_reference(settings: SelectorSettings, objects: usize, seed: u64) {
+    /// demands the same selections and diagnostics, bit for bit. `kinds`
+    /// lists the profiles as (LODs, viewpoints); with `shared`, profiles
+    /// with as many viewpoints share their directions.
+    fn matches_reference(
+        settings: SelectorSettings,
+        objects: usize,
+        seed: u64,
+        kinds: &[(usize, usize)],
+        shared: bool,
+    ) {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed);
         let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
         let mut sel = Selector::new(display, settings);
         let mut profiles = vec![];
-        for (lods, views) in [(4, 18), (4, 18), (2, 1), (3, 7), (7, 30), (1, 1)] {
-            profiles.push(sel.add_profile(&profile(&mut rng, lods, views)).unwrap());
+        for &(lods, views) in kinds {
+            let mut p = profile(&mut rng, lods, views);
+            if shared {
+                p.viewpoints = profile(&mut Rng(views as u64 + 1), 2, views).viewpoints;
+            }
+            profiles.push(sel.add_profile(&p).unwrap());
         }
+        let layout = sel.layout;
         let origin = DVec3::new(1e5, -3e6, 1e7) * (seed % 2) as f64;
         let mut ids = vec![];
         for k in 0..objects {
@@ -1586,7 +1762,7 @@ mod tests {
             } else {
                 2.0 + rng.next(1.9)
             };
-            let p = profiles[((rng.next(0.5) + 0.5) * 6.0) as usize % 6];
+            let p = profiles[((rng.next(0.5) + 0.5) * kinds.len() as f32) as usize % kinds.len()];
             let desc = ObjectDesc {
                 center: origin + offset.as_dvec3(),
                 radius,
@@ -1619,7 +1795,10 @@ mod tests {
             let expected = reference.frame(&sel, &frame);
             sel.select_with_diagnostics(&frame).unwrap();
             for (i, &(selection, diagnostics)) in expected.iter().enumerate() {
-                assert_eq!(sel.selections[i], selection, "object {i}, frame {f}");
+                assert_eq!(
+                    sel.selections[i], selection,
+                    "object {i}, frame {f}, {layout:?}"
+                );
                 if !selection.is_culled() {
                     let bits = |d: Diagnostics| {
                         [
@@ -1654,7 +1833,56 @@ mod tests {
                 },
                 ..Default::default()
             };
-            matches_reference(settings, 700 + k as usize, k);
+            matches_reference(settings, 700 + k as usize, k, &MIXED, false);
+            // One offline pass's profiles: rows found in bulk.
+            let uniform = [(4, 18), (4, 18), (5, 18), (3, 18), (1, 1)];
+            matches_reference(settings, 700 + k as usize, k, &uniform, true);
+        }
+    }
+
+    #[test]
+    fn uniform_layouts_match_the_reference() {
+        let nearest = SelectorSettings::default();
+        let worst = SelectorSettings {
+            viewpoint_rule: ViewpointRule::WorstCase,
+            ..nearest
+        };
+        type Kinds = &'static [(usize, usize)];
+        let cases: [(Kinds, bool, RowLayout); 5] = [
+            (
+                &[(7, 18), (8, 18)],
+                true,
+                RowLayout::Uniform {
+                    stride: 8,
+                    lookup: 0,
+                },
+            ),
+            (
+                &[(2, 1), (4, 1), (1, 1)],
+                true,
+                RowLayout::Uniform {
+                    stride: 4,
+                    lookup: NO_LOOKUP,
+                },
+            ),
+            (&[(4, 18), (4, 18)], false, RowLayout::Mixed),
+            (&[(4, 18), (9, 18)], true, RowLayout::Mixed),
+            (&[(4, 18), (4, 30)], true, RowLayout::Mixed),
+        ];
+        for (k, (kinds, shared, layout)) in cases.into_iter().enumerate() {
+            let mut sel = Selector::new(Display::new([64, 64], [60.0, 60.0]).unwrap(), nearest);
+            let mut rng = Rng(k as u64 + 1);
+            for &(lods, views) in kinds {
+                let mut p = profile(&mut rng, lods, views);
+                if shared {
+                    p.viewpoints = profile(&mut Rng(views as u64 + 1), 2, views).viewpoints;
+                }
+                sel.add_profile(&p).unwrap();
+            }
+            assert_eq!(sel.layout, layout, "case {k}");
+            for settings in [nearest, worst] {
+                matches_reference(settings, 900, k as u64, kinds, shared);
+            }
         }
     }
 
@@ -1665,7 +1893,8 @@ mod tests {
             parallel_min_objects: 0,
             ..Default::default()
         };
-        matches_reference(settings, 3 * CHUNK + 77, 5);
+        matches_reference(settings, 3 * CHUNK + 77, 5, &MIXED, false);
+        matches_reference(settings, 3 * CHUNK + 77, 6, &[(4, 18), (3, 18)], true);
     }
 
     #[test]

@@ -15,6 +15,8 @@ use glam::Vec3;
 
 /// Cells per cube-face edge.
 const RESOLUTION: usize = 32;
+/// Cells of the cube map.
+pub(crate) const CELLS: usize = 6 * RESOLUTION * RESOLUTION;
 /// Marks a cell with more than two candidates.
 const SCAN: u16 = u16::MAX;
 /// Dot products closer than this count as a tie (tests only skip those).
@@ -24,15 +26,17 @@ const TIE_MARGIN: f32 = 1e-5;
 #[derive(Clone, Debug)]
 pub(crate) struct ViewpointLookup {
     directions: Vec<Vec3>,
-    /// Two candidates per cell (equal when one suffices).
-    cells: Vec<[u16; 2]>,
+    /// The directions' x, y and z, apart (for [`Self::nearest_batch`]).
+    components: [Vec<f32>; 3],
+    /// Two candidates per cell (equal when one suffices; `SCAN` for more).
+    cells: Box<[[u16; 2]; CELLS]>,
 }
 
 impl ViewpointLookup {
     /// Builds the lookup. `directions` are unit vectors, fewer than 65535.
     pub(crate) fn new(directions: Vec<Vec3>) -> Self {
         debug_assert!(!directions.is_empty() && directions.len() < SCAN as usize);
-        let mut cells = vec![[SCAN; 2]; 6 * RESOLUTION * RESOLUTION];
+        let mut cells = Box::new([[SCAN; 2]; CELLS]);
         let step = 2.0 / RESOLUTION as f64;
         let mut candidates = Vec::new();
         for face in 0..6 {
@@ -66,7 +70,12 @@ impl ViewpointLookup {
                 }
             }
         }
-        Self { directions, cells }
+        let components = [0, 1, 2].map(|a| directions.iter().map(|d| d[a]).collect());
+        Self {
+            directions,
+            components,
+            cells,
+        }
     }
 
     /// The viewpoint directions, unit vectors.
@@ -92,6 +101,42 @@ impl ViewpointLookup {
         let (a, b) = (a as usize, b as usize);
         let pick_b = (self.directions[b].dot(dir) > self.directions[a].dot(dir)) as usize;
         a + b.wrapping_sub(a).wrapping_mul(pick_b)
+    }
+
+    /// [`nearest_in_cell`](Self::nearest_in_cell) for `cells.len()`
+    /// directions given component by component (`dirs[a][i]`), into
+    /// `views`: one straight-line pass over all of them (the candidates'
+    /// dot products, as [`Vec3::dot`] rounds them), then a scan for the few
+    /// whose cell has more than two candidates.
+    #[inline(always)]
+    pub(crate) fn nearest_batch(&self, cells: &[u32], dirs: [&[f32]; 3], views: &mut [u32]) {
+        let n = cells.len().min(views.len());
+        let (cells, views) = (&cells[..n], &mut views[..n]);
+        let [dx, dy, dz] = dirs.map(|d| &d[..n]);
+        let [xs, ys, zs] = &self.components;
+        let len = xs.len();
+        if len == 0 {
+            return;
+        }
+        let (ys, zs, last) = (&ys[..len], &zs[..len], len - 1);
+        let mut any_scan = false;
+        for i in 0..n {
+            let [a, b] = self.cells[(cells[i] as usize).min(CELLS - 1)];
+            any_scan |= a == SCAN;
+            let (a, b) = ((a as usize).min(last), (b as usize).min(last));
+            let (x, y, z) = (dx[i], dy[i], dz[i]);
+            let dot_a = (xs[a] * x) + (ys[a] * y) + (zs[a] * z);
+            let dot_b = (xs[b] * x) + (ys[b] * y) + (zs[b] * z);
+            views[i] = if dot_b > dot_a { b as u32 } else { a as u32 };
+        }
+        if any_scan {
+            for i in 0..n {
+                if self.cells[(cells[i] as usize).min(CELLS - 1)][0] == SCAN {
+                    let d = Vec3::new(dx[i], dy[i], dz[i]);
+                    views[i] = nearest_with_margin(&self.directions, d).0 as u32;
+                }
+            }
+        }
     }
 
     /// Fraction of cells that need a scan.
@@ -219,6 +264,31 @@ mod tests {
         }
         let scan = lookup.scan_fraction();
         assert!(scan < 0.05, "{scan} of cells need a scan");
+    }
+
+    #[test]
+    fn the_batch_lookup_matches_the_single_one() {
+        let lookup = ViewpointLookup::new(eighteen());
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut dirs: Vec<Vec3> = (0..50_000)
+            .map(|_| Vec3::new(next(), next(), next()))
+            .collect();
+        dirs.extend([Vec3::ZERO, Vec3::NAN, Vec3::INFINITY, Vec3::splat(1e30)]);
+        let cells: Vec<u32> = dirs.iter().map(|&d| cell_index(d)).collect();
+        let components = [0, 1, 2].map(|a| dirs.iter().map(|d| d[a]).collect::<Vec<_>>());
+        let mut views = vec![0; dirs.len()];
+        let [x, y, z] = &components;
+        lookup.nearest_batch(&cells, [x, y, z], &mut views);
+        assert!(cells.iter().any(|&c| lookup.cells[c as usize][0] == SCAN));
+        for (i, &d) in dirs.iter().enumerate() {
+            assert_eq!(views[i] as usize, lookup.nearest(d), "direction {d}");
+        }
     }
 
     #[test]
