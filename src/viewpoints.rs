@@ -2,8 +2,9 @@
 //! time and without unpredictable branches.
 //!
 //! A cube map over the sphere of directions stores, per cell, the (at most
-//! two) viewpoints that can be nearest anywhere in the cell; the lookup
-//! compares the direction with both and keeps the closer. Cells with more
+//! two) viewpoints that can be nearest anywhere in the cell, as a pair with
+//! the normal of the plane that splits the sphere between them; the lookup
+//! takes one dot product with that normal to keep the closer. Cells with more
 //! candidates (near a Voronoi vertex; about 1% of them) fall back to a
 //! scan. The candidate sets are conservative, so the answer is exact: if
 //! `c` is the cell's centre, `rho` its angular radius and `w*` the viewpoint
@@ -17,6 +18,8 @@ use glam::Vec3;
 const RESOLUTION: usize = 32;
 /// Cells of the cube map.
 pub(crate) const CELLS: usize = 6 * RESOLUTION * RESOLUTION;
+/// Most directions one [`ViewpointLookup::nearest_batch`] call takes.
+pub(crate) const QUEUE_MAX: usize = 256;
 /// Marks a cell with more than two candidates.
 const SCAN: u16 = u16::MAX;
 /// Dot products closer than this count as a tie (tests only skip those).
@@ -26,17 +29,39 @@ const TIE_MARGIN: f32 = 1e-5;
 #[derive(Clone, Debug)]
 pub(crate) struct ViewpointLookup {
     directions: Vec<Vec3>,
-    /// The directions' x, y and z, apart (for [`Self::nearest_batch`]).
-    components: [Vec<f32>; 3],
-    /// Two candidates per cell (equal when one suffices; `SCAN` for more).
-    cells: Box<[[u16; 2]; CELLS]>,
+    /// The candidate pairs, padded to a power of two.
+    pairs: Vec<Pair>,
+    /// Per cell, its pair in `pairs` (`SCAN` for more than two candidates).
+    cells: Box<[u16; CELLS]>,
+}
+
+/// Two viewpoints that can be nearest in a cell (equal when one suffices).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pair {
+    /// `directions[b] - directions[a]`: `b` is nearer exactly where the
+    /// dot product of this with the direction is positive.
+    normal: [f32; 3],
+    /// `[a, b]`.
+    views: [u16; 2],
+}
+
+impl Pair {
+    /// The nearer viewpoint of the pair to `d`.
+    #[inline(always)]
+    fn nearer(&self, d: [f32; 3]) -> u16 {
+        let [x, y, z] = self.normal;
+        let dot = (x * d[0]) + (y * d[1]) + (z * d[2]);
+        self.views[(dot > 0.0) as usize]
+    }
 }
 
 impl ViewpointLookup {
     /// Builds the lookup. `directions` are unit vectors, fewer than 65535.
     pub(crate) fn new(directions: Vec<Vec3>) -> Self {
         debug_assert!(!directions.is_empty() && directions.len() < SCAN as usize);
-        let mut cells = Box::new([[SCAN; 2]; CELLS]);
+        let mut cells = Box::new([SCAN; CELLS]);
+        let mut pairs = Vec::new();
+        let mut pair_ids = std::collections::HashMap::new();
         let step = 2.0 / RESOLUTION as f64;
         let mut candidates = Vec::new();
         for face in 0..6 {
@@ -61,19 +86,32 @@ impl ViewpointLookup {
                             .filter(|&(_, d)| d >= reach)
                             .map(|(k, _)| k),
                     );
-                    let cell = &mut cells[(face * RESOLUTION + j) * RESOLUTION + i];
-                    match candidates[..] {
-                        [a] => *cell = [a as u16; 2],
-                        [a, b] => *cell = [a as u16, b as u16],
-                        _ => {}
-                    }
+                    let views = match candidates[..] {
+                        [a] => [a as u16; 2],
+                        [a, b] => [a as u16, b as u16],
+                        _ => continue,
+                    };
+                    let id = *pair_ids.entry(views).or_insert_with(|| {
+                        let [a, b] = views.map(|v| directions[v as usize]);
+                        pairs.push(Pair {
+                            normal: (b - a).to_array(),
+                            views,
+                        });
+                        pairs.len() as u16 - 1
+                    });
+                    cells[(face * RESOLUTION + j) * RESOLUTION + i] = id;
                 }
             }
         }
-        let components = [0, 1, 2].map(|a| directions.iter().map(|d| d[a]).collect());
+        // Padding makes masked indices valid without a bounds check.
+        let padding = Pair {
+            normal: [0.0; 3],
+            views: [0; 2],
+        };
+        pairs.resize(pairs.len().max(1).next_power_of_two(), padding);
         Self {
             directions,
-            components,
+            pairs,
             cells,
         }
     }
@@ -94,55 +132,45 @@ impl ViewpointLookup {
     /// beforehand (in bulk: [`cell_index`] vectorises).
     #[inline(always)]
     pub(crate) fn nearest_in_cell(&self, cell: u32, dir: Vec3) -> usize {
-        let [a, b] = self.cells[cell as usize];
-        if a == SCAN {
+        let id = self.cells[(cell as usize).min(CELLS - 1)];
+        if id == SCAN {
             return nearest_with_margin(&self.directions, dir).0;
         }
-        let (a, b) = (a as usize, b as usize);
-        let pick_b = (self.directions[b].dot(dir) > self.directions[a].dot(dir)) as usize;
-        a + b.wrapping_sub(a).wrapping_mul(pick_b)
+        self.pairs[id as usize % self.pairs.len()].nearer(dir.to_array()) as usize
     }
 
     /// [`nearest_in_cell`](Self::nearest_in_cell) for `cells.len()`
-    /// directions given component by component (`dirs[a][i]`), into
-    /// `views`: one straight-line pass over all of them (the candidates'
-    /// dot products, as [`Vec3::dot`] rounds them), then a scan for the few
-    /// whose cell has more than two candidates.
+    /// directions (at most [`QUEUE_MAX`]; any more are left alone) given
+    /// component by component (`dirs[a][i]`), into `views`: one
+    /// straight-line pass (a dot product with the cell's split normal per
+    /// direction, rounded as there), then a scan for the few whose cell has
+    /// more than two candidates.
     #[inline(always)]
     pub(crate) fn nearest_batch(&self, cells: &[u32], dirs: [&[f32]; 3], views: &mut [u32]) {
-        let n = cells.len().min(views.len());
+        let n = cells.len().min(views.len()).min(QUEUE_MAX);
         let (cells, views) = (&cells[..n], &mut views[..n]);
         let [dx, dy, dz] = dirs.map(|d| &d[..n]);
-        let [xs, ys, zs] = &self.components;
-        let len = xs.len();
-        if len == 0 {
-            return;
-        }
-        let (ys, zs, last) = (&ys[..len], &zs[..len], len - 1);
-        let mut any_scan = false;
+        let mask = self.pairs.len() - 1;
+        let pairs = &self.pairs[..=mask];
+        let mut scans = [0u8; QUEUE_MAX];
+        let mut scanned = 0;
         for i in 0..n {
-            let [a, b] = self.cells[(cells[i] as usize).min(CELLS - 1)];
-            any_scan |= a == SCAN;
-            let (a, b) = ((a as usize).min(last), (b as usize).min(last));
-            let (x, y, z) = (dx[i], dy[i], dz[i]);
-            let dot_a = (xs[a] * x) + (ys[a] * y) + (zs[a] * z);
-            let dot_b = (xs[b] * x) + (ys[b] * y) + (zs[b] * z);
-            views[i] = if dot_b > dot_a { b as u32 } else { a as u32 };
+            let id = self.cells[(cells[i] as usize).min(CELLS - 1)];
+            scans[scanned] = i as u8;
+            scanned += (id == SCAN) as usize;
+            views[i] = pairs[id as usize & mask].nearer([dx[i], dy[i], dz[i]]) as u32;
         }
-        if any_scan {
-            for i in 0..n {
-                if self.cells[(cells[i] as usize).min(CELLS - 1)][0] == SCAN {
-                    let d = Vec3::new(dx[i], dy[i], dz[i]);
-                    views[i] = nearest_with_margin(&self.directions, d).0 as u32;
-                }
-            }
+        for &i in &scans[..scanned] {
+            let i = i as usize % n;
+            let d = Vec3::new(dx[i], dy[i], dz[i]);
+            views[i] = nearest_with_margin(&self.directions, d).0 as u32;
         }
     }
 
     /// Fraction of cells that need a scan.
     #[cfg(test)]
     fn scan_fraction(&self) -> f64 {
-        self.cells.iter().filter(|c| c[0] == SCAN).count() as f64 / self.cells.len() as f64
+        self.cells.iter().filter(|&&c| c == SCAN).count() as f64 / self.cells.len() as f64
     }
 }
 
@@ -283,9 +311,12 @@ mod tests {
         let cells: Vec<u32> = dirs.iter().map(|&d| cell_index(d)).collect();
         let components = [0, 1, 2].map(|a| dirs.iter().map(|d| d[a]).collect::<Vec<_>>());
         let mut views = vec![0; dirs.len()];
-        let [x, y, z] = &components;
-        lookup.nearest_batch(&cells, [x, y, z], &mut views);
-        assert!(cells.iter().any(|&c| lookup.cells[c as usize][0] == SCAN));
+        for start in (0..dirs.len()).step_by(QUEUE_MAX) {
+            let end = (start + QUEUE_MAX).min(dirs.len());
+            let [x, y, z] = components.each_ref().map(|c| &c[start..end]);
+            lookup.nearest_batch(&cells[start..end], [x, y, z], &mut views[start..end]);
+        }
+        assert!(cells.iter().any(|&c| lookup.cells[c as usize] == SCAN));
         for (i, &d) in dirs.iter().enumerate() {
             assert_eq!(views[i] as usize, lookup.nearest(d), "direction {d}");
         }
