@@ -1,5 +1,7 @@
 //! Selection cost per object: 1e3 to 1e6 objects, 4 LODs, 18 viewpoints,
-//! every component on, on the calling thread and on rayon's pool.
+//! every component on, on the calling thread (with the CPU's widest vector
+//! instructions, and with the build's baseline ones: `_baseline`) and on
+//! rayon's pool.
 //!
 //! Every iteration selects the same fixed cycle of [`POSES`] frames (the
 //! camera turns and moves a little between consecutive poses, so retinal
@@ -26,10 +28,11 @@ use glam::{DVec3, Quat, Vec3};
 /// Frames per iteration: the camera swings out over 4 steps and back.
 const POSES: usize = 8;
 
-fn scene(n: usize, parallel: bool) -> (Selector, Vec<ObjectId>) {
+fn scene(n: usize, parallel: bool, runtime_simd: bool) -> (Selector, Vec<ObjectId>) {
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
     let settings = SelectorSettings {
         parallel_min_objects: if parallel { 0 } else { usize::MAX },
+        runtime_simd,
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);
@@ -85,8 +88,12 @@ fn bench_select(c: &mut Criterion) {
             group.sample_size(10);
             group.sampling_mode(SamplingMode::Flat);
         }
-        for parallel in [false, true] {
-            let (mut sel, ids) = scene(n, parallel);
+        for (name, parallel, runtime_simd) in [
+            ("single_thread", false, true),
+            ("single_thread_baseline", false, false),
+            ("parallel", true, true),
+        ] {
+            let (mut sel, ids) = scene(n, parallel, runtime_simd);
             let mut visible = 0;
             for frame in &frames {
                 sel.select(frame).unwrap();
@@ -95,11 +102,6 @@ fn bench_select(c: &mut Criterion) {
                     .filter(|&&id| !sel.selection(id).is_culled())
                     .count();
             }
-            let name = if parallel {
-                "parallel"
-            } else {
-                "single_thread"
-            };
             eprintln!(
                 "{name}/{n}: visible fraction {:.3}",
                 visible as f64 / (POSES * n) as f64

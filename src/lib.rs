@@ -15,6 +15,13 @@
 //! Modules: [`acuity`] (the model), [`display`], [`camera`], [`select`]
 //! (the per-frame loop), [`schedule`] (fixed frame rate), [`profile`]
 //! (the file format).
+//!
+//! Features: `json` (JSON profiles), `parallel` (the selection loop on
+//! rayon), `simd-dispatch` (the selection loop in the widest vector
+//! instructions the CPU has, detected at run time, through pulp; results
+//! are bit-identical without it), `tools` (the command-line tool and the
+//! offline pass). With none of them the runtime needs glam, serde and
+//! thiserror alone.
 
 #![forbid(unsafe_code)]
 

@@ -53,6 +53,7 @@ const BLOCK: usize = 32;
 /// plus one block.
 const QUEUE: usize = 2 * BLOCK;
 /// Objects per parallel work item; a whole number of blocks.
+#[cfg_attr(not(feature = "parallel"), allow(dead_code))]
 const CHUNK: usize = 4096;
 /// [`ProfileRows::lookup`] of a profile without viewpoint lookup.
 const NO_LOOKUP: u32 = u32::MAX;
@@ -360,6 +361,7 @@ struct FrameConsts<'a> {
     planes_eye: [Vec3; 4],
     forward_eye: Vec3,
     cull: bool,
+    #[cfg_attr(not(feature = "simd-dispatch"), allow(dead_code))]
     runtime_simd: bool,
     size_on: bool,
     margin_deg: f32,
