@@ -26,7 +26,10 @@
 //! table; when every profile with more than one LOD has the same row
 //! stride and lookup (the profiles of one offline pass), rows are found and
 //! LODs counted in straight-line passes too, and a dense block's outputs
-//! are written by masks rather than object by object. The loop is monomorphised over the velocity,
+//! are written by masks rather than object by object. Each block's data is
+//! prefetched two blocks ahead. With the feature `simd-dispatch` the loop
+//! runs compiled for AVX2 and FMA where the CPU has them (bit-identical
+//! results: nothing is fused). The loop is monomorphised over the velocity,
 //! eccentricity and nearest-viewpoint switches, so a switched-off component
 //! costs nothing, allocates nothing, and runs on rayon (feature `parallel`)
 //! above [`SelectorSettings::parallel_min_objects`].
@@ -1466,18 +1469,25 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             };
         }
     }
-    for i in 0..n {
-        let g = if VELOCITY {
+    // G(v) in a pass of its own (its polynomial's constants then stay in
+    // registers), into `threshold_cpd` until the threshold replaces it.
+    if VELOCITY {
+        for i in 0..n {
             let v = fastmath::clamp(
                 m.seen_velocity[i],
                 VELOCITY_FLOOR_DEG_PER_S,
                 VELOCITY_CEILING_DEG_PER_S,
             );
-            fastmath::clamp(
+            m.threshold_cpd[i] = fastmath::clamp(
                 57.69 - 27.78 * fastmath::log10(v),
                 MIN_ACUITY_CPD,
                 MAX_ACUITY_CPD,
-            )
+            );
+        }
+    }
+    for i in 0..n {
+        let g = if VELOCITY {
+            m.threshold_cpd[i]
         } else {
             MAX_ACUITY_CPD
         };
