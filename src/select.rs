@@ -1258,9 +1258,10 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         }
         if dense {
             let mb = &motion[bi];
-            let before = [&mb.dir_eye[0], &mb.dir_eye[1], &mb.dir_eye[2]];
-            let before = before.map(|d| &d[..]);
-            let before = (before, &mb.velocity_deg_per_s[..]);
+            let before = (
+                mb.dir_eye.each_ref().map(|d| &d[..]),
+                &mb.velocity_deg_per_s[..],
+            );
             model::<VELOCITY, ECCENTRICITY, NEAREST>(
                 c,
                 bb,
@@ -1315,47 +1316,68 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             queued += 1;
         }
         if queued >= BLOCK {
-            let before = (
-                queue.dir_before.each_ref().map(|d| &d[..]),
-                &queue.velocity_before[..],
-            );
-            model::<VELOCITY, ECCENTRICITY, NEAREST>(
+            let outputs = Outputs {
+                selections: &mut *selections,
+                diagnostics: diagnostics.as_deref_mut(),
+                budget: budget.as_deref_mut(),
+            };
+            flush_queue::<VELOCITY, ECCENTRICITY, NEAREST>(
                 c,
                 &queue,
-                before,
                 queued,
                 pursued,
                 object_profiles,
                 &mut m,
-            );
-            write_queue::<VELOCITY>(
-                &queue,
-                &m,
-                queued,
-                selections,
                 motion,
-                diagnostics.as_deref_mut(),
-                budget.as_deref_mut(),
+                outputs,
             );
             queued = 0;
         }
     }
     if queued > 0 {
-        let before = (
-            queue.dir_before.each_ref().map(|d| &d[..]),
-            &queue.velocity_before[..],
-        );
-        model::<VELOCITY, ECCENTRICITY, NEAREST>(
+        let outputs = Outputs {
+            selections,
+            diagnostics,
+            budget,
+        };
+        flush_queue::<VELOCITY, ECCENTRICITY, NEAREST>(
             c,
             &queue,
-            before,
             queued,
             pursued,
             object_profiles,
             &mut m,
+            motion,
+            outputs,
         );
-        write_queue::<VELOCITY>(&queue, &m, queued, selections, motion, diagnostics, budget);
     }
+}
+
+/// Models the first `queued` objects of the queue (see [`model`]) and
+/// writes their outputs.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn flush_queue<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
+    c: &FrameConsts<'_>,
+    queue: &Batch,
+    queued: usize,
+    pursued: u32,
+    object_profiles: &[u32],
+    m: &mut Modelled,
+    motion: &mut [MotionBlock],
+    out: Outputs<'_>,
+) {
+    let before = (
+        queue.dir_before.each_ref().map(|d| &d[..]),
+        &queue.velocity_before[..],
+    );
+    model::<VELOCITY, ECCENTRICITY, NEAREST>(c, queue, before, queued, pursued, object_profiles, m);
+    let Outputs {
+        selections,
+        diagnostics,
+        budget,
+    } = out;
+    write_queue::<VELOCITY>(queue, m, queued, selections, motion, diagnostics, budget);
 }
 
 /// How many blocks ahead the loop asks for the next block's data.

@@ -269,17 +269,21 @@ mod tests {
         dirs
     }
 
-    #[test]
-    fn lookup_matches_a_full_scan() {
-        let lookup = ViewpointLookup::new(eighteen());
-        assert_eq!(lookup.directions.len(), 18);
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
+    /// A seeded xorshift generator, uniform in `[-1, 1)`.
+    fn uniform(mut state: u64) -> impl FnMut() -> f32 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        }
+    }
+
+    #[test]
+    fn lookup_matches_a_full_scan() {
+        let lookup = ViewpointLookup::new(eighteen());
+        assert_eq!(lookup.directions.len(), 18);
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         for _ in 0..200_000 {
             let d = Vec3::new(next(), next(), next());
             if d.length_squared() < 1e-6 {
@@ -297,13 +301,7 @@ mod tests {
     #[test]
     fn the_batch_lookup_matches_the_single_one() {
         let lookup = ViewpointLookup::new(eighteen());
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let mut dirs: Vec<Vec3> = (0..50_000)
             .map(|_| Vec3::new(next(), next(), next()))
             .collect();
