@@ -358,6 +358,7 @@ struct SingleRecord {
     triangles: u32,
 }
 
+#[derive(Clone, Copy)]
 struct FrameConsts<'a> {
     cam_pos: DVec3,
     world_to_eye: Mat3,
@@ -381,6 +382,10 @@ struct FrameConsts<'a> {
     /// The profile of each object with more than one LOD.
     object_profiles: &'a [u32],
     layout: RowLayout,
+    /// Viewpoint sets up to this size are searched by comparing every
+    /// viewpoint (see [`ViewpointLookup::nearest_batch`]): it depends on
+    /// the vector width the loop runs with.
+    scan_max_views: usize,
 }
 
 impl Selector {
@@ -866,6 +871,7 @@ fn frame_consts<'a>(
         lookups: tables.lookups,
         object_profiles: tables.object_profiles,
         layout: tables.layout,
+        scan_max_views: viewpoints::SCAN_MAX_VIEWS_128,
     })
 }
 
@@ -897,7 +903,19 @@ fn widest<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
 ) {
     #[cfg(feature = "simd-dispatch")]
     if c.runtime_simd {
-        return pulp::Arch::new().dispatch(
+        let arch = pulp::Arch::new();
+        let scan_max_views = match arch {
+            #[cfg(target_arch = "x86_64")]
+            pulp::Arch::V4(_) => viewpoints::SCAN_MAX_VIEWS_512,
+            #[cfg(target_arch = "x86_64")]
+            pulp::Arch::V3(_) => viewpoints::SCAN_MAX_VIEWS_256,
+            _ => c.scan_max_views,
+        };
+        let c = &FrameConsts {
+            scan_max_views,
+            ..*c
+        };
+        return arch.dispatch(
             #[inline(always)]
             || kernel::<VELOCITY, ECCENTRICITY, NEAREST>(c, blocks, motion, first_index, out),
         );
@@ -1076,8 +1094,6 @@ struct Modelled {
     seen_velocity: [f32; QUEUE],
     threshold_cpd: [f32; QUEUE],
     k_cdiam: [f32; QUEUE],
-    /// Cube-map cell of the direction to the camera (nearest viewpoint).
-    cell: [u32; QUEUE],
     /// The viewpoint whose row applies.
     view: [u32; QUEUE],
     /// Start of the object's prefix-minimum row in the selector's rows.
@@ -1095,7 +1111,6 @@ const EMPTY_MODELLED: Modelled = Modelled {
     seen_velocity: [0.0; QUEUE],
     threshold_cpd: [0.0; QUEUE],
     k_cdiam: [0.0; QUEUE],
-    cell: [0; QUEUE],
     view: [0; QUEUE],
     row: [0; QUEUE],
     lod: [0; QUEUE],
@@ -1535,18 +1550,12 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             threshold_cpd * size_deg
         };
     }
-    // The cube-map cell of the direction to the camera.
-    if NEAREST {
-        for i in 0..n {
-            let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
-            m.cell[i] = viewpoints::cell_index(d);
-        }
-    }
     match c.layout {
         RowLayout::Uniform { stride, lookup } => {
             if NEAREST && lookup != NO_LOOKUP {
                 let dirs = [0, 1, 2].map(|a| &q.to_camera[a][..n]);
-                c.lookups[lookup as usize].nearest_batch(&m.cell[..n], dirs, &mut m.view[..n]);
+                let lookup = &c.lookups[lookup as usize];
+                lookup.nearest_batch(dirs, &mut m.view[..n], c.scan_max_views);
             } else {
                 m.view[..n].fill(0);
             }
@@ -1563,9 +1572,12 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             }
         }
         RowLayout::Empty | RowLayout::Mixed => {
-            // Each object's row first, then the counts: short, independent
+            // Each object's profile first, then its cube-map cell (in bulk:
+            // it vectorises), its row, then the counts: short, independent
             // iterations overlap better than one long chain of loads.
             let mut strides = [0u32; QUEUE];
+            let mut lookups = [NO_LOOKUP; QUEUE];
+            let mut resolutions = [viewpoints::MIN_RESOLUTION; QUEUE];
             for i in 0..n {
                 // Lanes past the last object (modelled, never written) take profile 0.
                 let p = object_profiles
@@ -1573,14 +1585,26 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                     .copied()
                     .unwrap_or(0);
                 let profile = c.profiles[p as usize];
-                let mut row = profile.start;
-                if NEAREST && profile.lookup != NO_LOOKUP {
-                    let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
-                    let view = c.lookups[profile.lookup as usize].nearest_in_cell(m.cell[i], d);
-                    row += (1 + view as u32) * profile.stride;
-                }
-                m.row[i] = row;
+                m.row[i] = profile.start;
                 strides[i] = profile.stride;
+                if NEAREST && profile.lookup != NO_LOOKUP {
+                    lookups[i] = profile.lookup;
+                    resolutions[i] = c.lookups[profile.lookup as usize].resolution();
+                }
+            }
+            if NEAREST {
+                let mut cells = [0u32; QUEUE];
+                for i in 0..n {
+                    let d = Vec3::new(q.to_camera[0][i], q.to_camera[1][i], q.to_camera[2][i]);
+                    cells[i] = viewpoints::cell_index(d, resolutions[i]);
+                }
+                for i in 0..n {
+                    if let Some(lookup) = c.lookups.get(lookups[i] as usize) {
+                        let d = [0, 1, 2].map(|a| q.to_camera[a][i]);
+                        let view = lookup.nearest_in_cell(cells[i], d) as u32;
+                        m.row[i] += (1 + view) * strides[i];
+                    }
+                }
             }
             for i in 0..n {
                 let row = &c.rows[m.row[i] as usize..][..strides[i] as usize];
@@ -2013,7 +2037,7 @@ mod tests {
             ..nearest
         };
         type Kinds = &'static [(usize, usize)];
-        let cases: [(Kinds, bool, RowLayout); 5] = [
+        let cases: [(Kinds, bool, RowLayout); 6] = [
             (
                 &[(7, 18), (8, 18)],
                 true,
@@ -2028,6 +2052,15 @@ mod tests {
                 RowLayout::Uniform {
                     stride: 4,
                     lookup: NO_LOOKUP,
+                },
+            ),
+            // More viewpoints than any vector width compares one by one.
+            (
+                &[(4, 66), (3, 66)],
+                true,
+                RowLayout::Uniform {
+                    stride: 4,
+                    lookup: 0,
                 },
             ),
             (&[(4, 18), (4, 18)], false, RowLayout::Mixed),
