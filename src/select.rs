@@ -37,7 +37,7 @@
 // Index loops over parallel fixed-size arrays are what vectorises here.
 #![allow(clippy::needless_range_loop)]
 
-use glam::{DVec3, Mat3, Quat, Vec3};
+use glam::{DVec3, Mat3, Quat, Vec3, Vec4};
 
 use crate::acuity::{
     Components, ECCENTRICITY_CEILING_DEG, ECCENTRICITY_FLOOR_DEG, MAX_ACUITY_CPD, MIN_ACUITY_CPD,
@@ -1038,12 +1038,21 @@ fn count_coarser(prefix_min_cdiam: &[f32], k_cdiam: f32) -> usize {
 /// least one): one 4-wide comparison and count per group.
 #[inline(always)]
 fn count_coarser_padded(row: &[f32], k_cdiam: f32) -> usize {
-    let group = |g: &[f32]| {
-        let g: [f32; 4] = g.try_into().unwrap_or([f32::NEG_INFINITY; 4]);
-        g.map(|f| (f > k_cdiam) as u32).iter().sum::<u32>() as usize
-    };
+    let group = |g: &[f32]| count_group(g.try_into().unwrap_or([f32::NEG_INFINITY; 4]), k_cdiam);
     let (first, rest) = row.split_at(4.min(row.len()));
-    group(first) + rest.chunks_exact(4).map(group).sum::<usize>()
+    (group(first) + rest.chunks_exact(4).map(group).sum::<u32>()) as usize
+}
+
+/// The entries of `group` above `k_cdiam`, in one 4-wide comparison:
+/// glam's `Vec4` is a vector register, so loops over objects that call
+/// this are not widened into gathers across objects (which measured
+/// slower: about 1 ns per object).
+#[inline(always)]
+fn count_group(group: [f32; 4], k_cdiam: f32) -> u32 {
+    Vec4::from_array(group)
+        .cmpgt(Vec4::splat(k_cdiam))
+        .bitmask()
+        .count_ones()
 }
 
 /// Objects to model, field by field: a block's 32 lanes straight from
@@ -1616,7 +1625,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
 
 /// The LOD counts of rows of `STRIDE` entries (a multiple of 4) starting
 /// at `starts` (multiples of 4), against `k_cdiam`: whole groups of 4
-/// loaded and compared at once.
+/// loaded and compared at once ([`count_group`]).
 #[inline(always)]
 fn count_rows<const STRIDE: usize>(
     rows: &[f32],
@@ -1634,8 +1643,8 @@ fn count_rows<const STRIDE: usize>(
         let first = (starts[i] as usize / 4).min(last);
         let k = k_cdiam[i];
         let mut count = 0;
-        for g in &groups[first..][..STRIDE / 4] {
-            count += g.map(|f| (f > k) as u32).iter().sum::<u32>();
+        for &g in &groups[first..][..STRIDE / 4] {
+            count += count_group(g, k);
         }
         lods[i] = count;
     }
