@@ -10,26 +10,29 @@
 //! with `-inf` to whole groups of 4, which makes the choice a count of
 //! 4-wide comparisons.
 //!
-//! Layout. Objects with more than one LOD live in blocks of 32, field by
+//! Layout. Objects with more than one LOD live in blocks of 64, field by
 //! field within a block (`f64` centre coordinates, radius, profile index,
 //! rotation), with their motion state in matching blocks and their outputs
 //! in flat arrays; objects with one LOD live apart and are only culled (or
 //! not touched at all with culling off). Each block is first culled as a
 //! whole, branch-free (the camera-relative centre is taken in `f64` and then
 //! rounded to `f32`, so far-off scenes select like scenes at the origin);
-//! the visible objects of a sparse block go to a queue, and every 32 or
-//! more of them are modelled together (a block with most objects visible is
-//! modelled whole, which costs less than queueing), in short passes over
-//! plain arrays that the compiler vectorises (branch-free polynomial
+//! the visible objects of a sparse block go to a queue of up to 64, which is
+//! modelled when the next block's would not fit (a block with most objects
+//! visible is modelled whole, which costs less than queueing), in short
+//! passes over plain arrays that the compiler vectorises (branch-free polynomial
 //! `asin`/`acos`/`log10`, [`crate::fastmath`]), then the viewpoint lookup
 //! and the LOD count. Profiles with the same viewpoints share one lookup
 //! table; when every profile with more than one LOD has the same row
 //! stride and lookup (the profiles of one offline pass), rows are found and
 //! LODs counted in straight-line passes too, and a dense block's outputs
-//! are written by masks rather than object by object. Each block's data is
-//! prefetched two blocks ahead. With the feature `simd-dispatch` the loop
-//! runs compiled for AVX2 and FMA where the CPU has them (bit-identical
-//! results: nothing is fused). The loop is monomorphised over the velocity,
+//! are written by masks rather than object by object. 64 lanes a pass give
+//! each pass 4 independent vectors of 16 to overlap (the polynomials are
+//! long dependency chains); 32 measured about 1 ns per object slower with
+//! AVX-512. Each block's data is prefetched into L2 two blocks ahead (into
+//! L1 it evicts the loop's own 13 KB of scratch). With the feature
+//! `simd-dispatch` the loop runs compiled for AVX-512 or AVX2 and FMA where
+//! the CPU has them (bit-identical results: nothing is fused). The loop is monomorphised over the velocity,
 //! eccentricity and nearest-viewpoint switches, so a switched-off component
 //! costs nothing, allocates nothing, and runs on rayon (feature `parallel`)
 //! above [`SelectorSettings::parallel_min_objects`].
@@ -51,10 +54,10 @@ use crate::profile::Profile;
 use crate::viewpoints::{self, ViewpointLookup};
 
 /// Objects per block of the store.
-const BLOCK: usize = 32;
-/// Capacity of the queue of visible objects: fewer than a block waiting,
-/// plus one block.
-const QUEUE: usize = 2 * BLOCK;
+const BLOCK: usize = 64;
+/// Capacity of the queue of visible objects (of sparse blocks): it is
+/// modelled when the next block's would not fit, and at the end.
+const QUEUE: usize = BLOCK;
 /// Objects per parallel work item; a whole number of blocks.
 #[cfg_attr(not(feature = "parallel"), allow(dead_code))]
 const CHUNK: usize = 4096;
@@ -199,7 +202,7 @@ pub struct BudgetOutcome {
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,
 }
-/// 32 objects with more than one LOD, field by field. Lanes past the last
+/// [`BLOCK`] objects with more than one LOD, field by field. Lanes past the last
 /// object of the last block are padding, never read.
 #[derive(Clone, Debug)]
 struct Block {
@@ -339,8 +342,8 @@ pub struct Selector {
     object_profiles: Vec<u32>,
     layout: RowLayout,
     rows: Vec<f32>,
-    /// Objects with more than one LOD: object `i` is lane `i % 32` of
-    /// block `i / 32`.
+    /// Objects with more than one LOD: object `i` is lane `i % BLOCK` of
+    /// block `i / BLOCK`.
     blocks: Vec<Block>,
     motion: Vec<MotionBlock>,
     /// One per object with more than one LOD (so also their count).
@@ -1055,7 +1058,7 @@ fn count_group(group: [f32; 4], k_cdiam: f32) -> u32 {
         .count_ones()
 }
 
-/// Objects to model, field by field: a block's 32 lanes straight from
+/// Objects to model, field by field: a block's lanes straight from
 /// the cull pass, or a queue of visible objects gathered from sparse blocks.
 struct Batch {
     /// Object index within the work item.
@@ -1089,7 +1092,7 @@ const EMPTY_BATCH: Batch = Batch {
 /// Blocks with at least this many visible objects are modelled whole (the
 /// culled lanes' results are dropped), which costs less than moving the
 /// visible ones to the queue.
-const DENSE_BLOCK: usize = 20;
+const DENSE_BLOCK: usize = 40;
 
 /// The model's results for a batch.
 struct Modelled {
@@ -1159,7 +1162,7 @@ fn to_object_frame(q: [f32; 4], rel: [f32; 3]) -> [f32; 3] {
     (Quat::from_array(q).conjugate() * -Vec3::from_array(rel)).to_array()
 }
 
-/// Culls a block into lanes `0..32` of `out`: branch-free over all 32
+/// Culls a block into lanes `0..BLOCK` of `out`: branch-free over all
 /// lanes, so it vectorises. With `NEAREST`, also the direction to the
 /// camera in each object's frame. `visible` is 1 for each visible object
 /// and 0 for each culled one and each lane past `live`.
@@ -1317,6 +1320,25 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 mb.velocity_deg_per_s[i] = if visible[i] != 0 { v } else { -1.0 };
             }
         }
+        // Model the queue first where these would not fit.
+        if queued + n > QUEUE {
+            let outputs = Outputs {
+                selections: &mut *selections,
+                diagnostics: diagnostics.as_deref_mut(),
+                budget: budget.as_deref_mut(),
+            };
+            flush_queue::<VELOCITY, ECCENTRICITY, NEAREST>(
+                c,
+                &queue,
+                queued,
+                pursued,
+                object_profiles,
+                &mut m,
+                motion,
+                outputs,
+            );
+            queued = 0;
+        }
         // Append the visible lanes to the queue.
         let mb = &motion[bi];
         for &lane in &lanes[..n] {
@@ -1338,24 +1360,6 @@ fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 queue.velocity_before[at] = mb.velocity_deg_per_s[lane];
             }
             queued += 1;
-        }
-        if queued >= BLOCK {
-            let outputs = Outputs {
-                selections: &mut *selections,
-                diagnostics: diagnostics.as_deref_mut(),
-                budget: budget.as_deref_mut(),
-            };
-            flush_queue::<VELOCITY, ECCENTRICITY, NEAREST>(
-                c,
-                &queue,
-                queued,
-                pursued,
-                object_profiles,
-                &mut m,
-                motion,
-                outputs,
-            );
-            queued = 0;
         }
     }
     if queued > 0 {
@@ -1408,8 +1412,8 @@ fn flush_queue<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bo
 const PREFETCH_BLOCKS: usize = 2;
 
 /// Software prefetch: a hint, never a load, so any address is sound. On
-/// x86-64 with the feature `simd-dispatch`, `prefetcht0` through pulp's
-/// safe wrapper; elsewhere nothing.
+/// x86-64 with the feature `simd-dispatch`, `prefetcht1` (into L2) through
+/// pulp's safe wrapper; elsewhere nothing.
 #[derive(Clone, Copy)]
 struct Prefetch {
     #[cfg(all(feature = "simd-dispatch", target_arch = "x86_64"))]
@@ -1431,7 +1435,7 @@ impl Prefetch {
         if let Some(sse) = self.sse {
             let start = (item as *const T).cast::<i8>();
             for offset in (0..size_of::<T>()).step_by(64) {
-                sse._mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(start.wrapping_add(offset));
+                sse._mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T1 }>(start.wrapping_add(offset));
             }
         }
         #[cfg(not(all(feature = "simd-dispatch", target_arch = "x86_64")))]
