@@ -1,7 +1,7 @@
 //! Selection cost per object: 1e3 to 1e6 objects, 4 LODs, 18 viewpoints,
 //! every component on, on the calling thread (with the CPU's widest vector
-//! instructions, and with the build's baseline ones: `_baseline`) and on
-//! rayon's pool.
+//! instructions, with at most AVX2: `_avx2`, and with the build's baseline
+//! ones: `_baseline`) and on rayon's pool.
 //!
 //! Every iteration selects the same fixed cycle of [`POSES`] frames (the
 //! camera turns and moves a little between consecutive poses, so retinal
@@ -17,7 +17,8 @@
 mod common;
 
 use acuity::{
-    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selector, SelectorSettings, Tracker,
+    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selector, SelectorSettings, SimdLevel,
+    Tracker,
 };
 use common::{Rng, four_lod_profile};
 use criterion::{
@@ -28,11 +29,11 @@ use glam::{DVec3, Quat, Vec3};
 /// Frames per iteration: the camera swings out over 4 steps and back.
 const POSES: usize = 8;
 
-fn scene(n: usize, parallel: bool, runtime_simd: bool) -> (Selector, Vec<ObjectId>) {
+fn scene(n: usize, parallel: bool, simd: SimdLevel) -> (Selector, Vec<ObjectId>) {
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
     let settings = SelectorSettings {
         parallel_min_objects: if parallel { 0 } else { usize::MAX },
-        runtime_simd,
+        simd,
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);
@@ -88,12 +89,13 @@ fn bench_select(c: &mut Criterion) {
             group.sample_size(10);
             group.sampling_mode(SamplingMode::Flat);
         }
-        for (name, parallel, runtime_simd) in [
-            ("single_thread", false, true),
-            ("single_thread_baseline", false, false),
-            ("parallel", true, true),
+        for (name, parallel, simd) in [
+            ("single_thread", false, SimdLevel::Widest),
+            ("single_thread_avx2", false, SimdLevel::Avx2),
+            ("single_thread_baseline", false, SimdLevel::Baseline),
+            ("parallel", true, SimdLevel::Widest),
         ] {
-            let (mut sel, ids) = scene(n, parallel, runtime_simd);
+            let (mut sel, ids) = scene(n, parallel, simd);
             let mut visible = 0;
             for frame in &frames {
                 sel.select(frame).unwrap();

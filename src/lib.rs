@@ -45,7 +45,7 @@ pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
     BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId, Selection, Selector,
-    SelectorSettings, ViewpointRule,
+    SelectorSettings, SimdLevel, ViewpointRule,
 };
 
 /// A small valid profile for documentation examples.

@@ -139,12 +139,26 @@ pub struct SelectorSettings {
     pub parallel_min_objects: usize,
     /// Lowest `s` the budgeted selection may use, in `(0, 1]`.
     pub min_scale: f32,
-    /// Whether the loop may use the widest vector instructions the CPU
-    /// has, detected at run time (x86-64: AVX2 and FMA; with the feature
-    /// `simd-dispatch`, else ignored). The results are bit-identical either
-    /// way (nothing is fused or reassociated); off runs the build's
-    /// baseline instructions, for comparison.
-    pub runtime_simd: bool,
+    /// The widest vector instructions the loop may use, detected at run
+    /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
+    /// results are bit-identical at every level (nothing is fused or
+    /// reassociated).
+    pub simd: SimdLevel,
+}
+
+/// The vector instructions the selection loop may use
+/// ([`SelectorSettings::simd`]); a level the CPU lacks falls back to the
+/// next one down.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SimdLevel {
+    /// The build's baseline instructions (x86-64: SSE2), for comparison.
+    Baseline,
+    /// At most AVX2 and FMA (x86-64-v3): for CPUs that lower their clock
+    /// for AVX-512, or for comparison.
+    Avx2,
+    /// The widest the CPU has: AVX-512 (x86-64-v4), else AVX2 and FMA.
+    #[default]
+    Widest,
 }
 
 impl Default for SelectorSettings {
@@ -156,7 +170,7 @@ impl Default for SelectorSettings {
             velocity_time_constant_s: 0.05,
             parallel_min_objects: 32_768,
             min_scale: 0.01,
-            runtime_simd: true,
+            simd: SimdLevel::Widest,
         }
     }
 }
@@ -369,7 +383,7 @@ struct FrameConsts<'a> {
     forward_eye: Vec3,
     cull: bool,
     #[cfg_attr(not(feature = "simd-dispatch"), allow(dead_code))]
-    runtime_simd: bool,
+    simd: SimdLevel,
     size_on: bool,
     margin_deg: f32,
     limit_cpd: f32,
@@ -859,7 +873,7 @@ fn frame_consts<'a>(
         planes_eye: planes_cam.map(|n| eye_from_cam * n),
         forward_eye: eye_from_cam * Vec3::NEG_Z,
         cull: settings.cull,
-        runtime_simd: settings.runtime_simd,
+        simd: settings.simd,
         size_on: settings.components.size,
         margin_deg,
         limit_cpd: display.max_frequency_cpd(),
@@ -905,8 +919,14 @@ fn widest<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     out: Outputs<'_>,
 ) {
     #[cfg(feature = "simd-dispatch")]
-    if c.runtime_simd {
-        let arch = pulp::Arch::new();
+    if c.simd != SimdLevel::Baseline {
+        let arch = match (c.simd, pulp::Arch::new()) {
+            #[cfg(target_arch = "x86_64")]
+            (SimdLevel::Avx2, pulp::Arch::V4(_)) => {
+                pulp::x86::V3::try_new().map_or(pulp::Arch::Scalar, pulp::Arch::V3)
+            }
+            (_, arch) => arch,
+        };
         let scan_max_views = match arch {
             #[cfg(target_arch = "x86_64")]
             pulp::Arch::V4(_) => viewpoints::SCAN_MAX_VIEWS_512,
@@ -2029,11 +2049,8 @@ mod tests {
                 ..Default::default()
             };
             // The same bits with the CPU's widest instructions and without.
-            for runtime_simd in [true, false] {
-                let settings = SelectorSettings {
-                    runtime_simd,
-                    ..settings
-                };
+            for simd in [SimdLevel::Widest, SimdLevel::Avx2, SimdLevel::Baseline] {
+                let settings = SelectorSettings { simd, ..settings };
                 matches_reference(settings, 700 + k as usize, k, &MIXED, false);
                 // One offline pass's profiles: rows found in bulk.
                 let uniform = [(4, 18), (4, 18), (5, 18), (3, 18), (1, 1)];
