@@ -17,11 +17,11 @@
 //! not touched at all with culling off). Each block is first culled as a
 //! whole, branch-free (the camera-relative centre is taken in `f64` and then
 //! rounded to `f32`, so far-off scenes select like scenes at the origin);
-//! the visible objects of a sparse block go to a queue of up to 64, which is
-//! modelled when the next block's would not fit (a block with most objects
-//! visible is modelled whole, which costs less than queueing), in short
-//! passes over plain arrays that the compiler vectorises (branch-free polynomial
-//! `asin`/`acos`/`log10`, [`crate::fastmath`]), then the viewpoint lookup
+//! the visible objects of a sparse block go to a queue of up to 64, which
+//! is modelled when the next block's would not fit (a block with most
+//! objects visible is modelled whole, which costs less than queueing), in
+//! short passes over plain arrays that the compiler vectorises (branch-free
+//! polynomial `asin`/`acos`/`log10`, [`crate::fastmath`]), then the viewpoint lookup
 //! and the LOD count. Profiles with the same viewpoints share one lookup
 //! table; when every profile with more than one LOD has the same row
 //! stride and lookup (the profiles of one offline pass), rows are found and
@@ -32,10 +32,11 @@
 //! AVX-512. Each block's data is prefetched into L2 two blocks ahead (into
 //! L1 it evicts the loop's own 13 KB of scratch). With the feature
 //! `simd-dispatch` the loop runs compiled for AVX-512 or AVX2 and FMA where
-//! the CPU has them (bit-identical results: nothing is fused). The loop is monomorphised over the velocity,
-//! eccentricity and nearest-viewpoint switches, so a switched-off component
-//! costs nothing, allocates nothing, and runs on rayon (feature `parallel`)
-//! above [`SelectorSettings::parallel_min_objects`].
+//! the CPU has them (bit-identical results: nothing is fused). The loop is
+//! monomorphised over the velocity, eccentricity and nearest-viewpoint
+//! switches, so a switched-off component costs nothing, allocates nothing,
+//! and runs on rayon (feature `parallel`) above
+//! [`SelectorSettings::parallel_min_objects`].
 
 // Index loops over parallel fixed-size arrays are what vectorises here.
 #![allow(clippy::needless_range_loop)]
@@ -216,8 +217,8 @@ pub struct BudgetOutcome {
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,
 }
-/// [`BLOCK`] objects with more than one LOD, field by field. Lanes past the last
-/// object of the last block are padding, never read.
+/// [`BLOCK`] objects with more than one LOD, field by field. Lanes past
+/// the last object of the last block are padding, never read.
 #[derive(Clone, Debug)]
 struct Block {
     /// Centre of the bounding sphere, world units.

@@ -4,8 +4,9 @@
 //! The nearest viewpoint is defined by [`nearest_scan`]: the first one with
 //! the largest dot product, rounded one fixed way. Small sets (up to 48
 //! viewpoints with AVX-512, 32 with AVX2, 8 with SSE2) are searched that
-//! way in bulk, many directions at once in vector registers. Larger ones use a cube map over
-//! the sphere of directions, finer for larger sets, that stores per cell
+//! way in bulk, many directions at once in vector registers. Larger ones
+//! use a cube map over the sphere of directions, finer for larger sets,
+//! that stores per cell
 //! the viewpoints that can be nearest anywhere in the cell: mostly one or
 //! two (a pair, whose dot products the lookup compares), a short list near
 //! a Voronoi vertex. The candidate sets are conservative, so the answer is
