@@ -1,14 +1,18 @@
-//! The display: resolution and field of view, and the highest spatial
-//! frequency it can show.
+//! The display: resolution and field of view, the highest spatial
+//! frequency it can show, and its light output.
 
+use crate::csf::Photometry;
 use crate::error::{Error, Result};
 
-/// A display as the viewer sees it: resolution in pixels and the field of
-/// view the image subtends at the eye, in degrees.
+/// A display as the viewer sees it: resolution in pixels, the field of
+/// view the image subtends at the eye in degrees, and its photometry
+/// (peak and black luminance; [`Photometry::default`] unless set).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Display {
     resolution_px: [u32; 2],
     fov_deg: [f32; 2],
+    #[serde(default)]
+    photometry: Photometry,
 }
 
 /// Largest field of view accepted, deg. A planar display subtends less than
@@ -44,7 +48,20 @@ impl Display {
         Ok(Self {
             resolution_px,
             fov_deg,
+            photometry: Photometry::default(),
         })
+    }
+
+    /// The same display with other photometry (validated; the error names
+    /// the field).
+    pub fn with_photometry(self, photometry: Photometry) -> Result<Self> {
+        photometry.validate()?;
+        Ok(Self { photometry, ..self })
+    }
+
+    /// The display's photometry.
+    pub fn photometry(&self) -> &Photometry {
+        &self.photometry
     }
 
     /// A display from its physical size and the viewing distance: a

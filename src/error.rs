@@ -33,13 +33,13 @@ pub enum Error {
     ProfileInvalid {
         /// The file, when the profile came from one.
         path: Option<PathBuf>,
-        /// The field, as a path (`transitions[3].lowest_cdiam`).
+        /// The field, as a path (`transitions[3].features[0].freq_cdiam`).
         field: String,
         /// The rule it breaks, with the offending value.
         reason: String,
     },
     /// A profile written by a format version this build cannot read.
-    #[error("{}: profile format version {found} is not supported (this build reads {supported})", path_or_input(.path))]
+    #[error("{}: profile format version {found} is not supported (this build reads {supported}); regenerate it from its object with `acuity preprocess --force` (`acuity run` re-analyses cached profiles by itself)", path_or_input(.path))]
     ProfileVersion {
         /// The file, when the profile came from one.
         path: Option<PathBuf>,

@@ -3,18 +3,19 @@
 //! Each object keeps several discrete LODs; every frame acuity picks the
 //! coarsest one whose removed detail the viewer cannot see, from the
 //! object's angular size, its retinal velocity and its eccentricity from
-//! the gaze (Reddy 1998, 2001). The offline pass (crate
-//! `acuity-preprocess`, driven by the `acuity` tool) measures which
-//! spatial frequencies each LOD transition removes and stores them in a
-//! [`Profile`]; this crate reads profiles and selects.
+//! the gaze (Reddy 1998, 2001), judged against a contrast sensitivity
+//! function. The offline pass (crate `acuity-preprocess`, driven by the
+//! `acuity` tool) measures the features each LOD transition removes (their
+//! spatial frequency and contrast, at a ladder of on-screen sizes) and
+//! stores them in a [`Profile`]; this crate reads profiles and selects.
 //!
 //! Units: angles in degrees, spatial frequency in cycles per degree
 //! (`_cpd`) or cycles per object diameter (`_cdiam`), velocity in deg/s,
 //! time in seconds; world lengths in any one unit.
 //!
-//! Modules: [`acuity`] (the model), [`display`], [`camera`], [`select`]
-//! (the per-frame loop), [`schedule`] (fixed frame rate), [`profile`]
-//! (the file format).
+//! Modules: [`acuity`] (the model), [`csf`] (contrast sensitivity and its
+//! calibration), [`display`], [`camera`], [`select`] (the per-frame loop),
+//! [`schedule`] (fixed frame rate), [`profile`] (the file format).
 //!
 //! Features: `json` (JSON profiles), `parallel` (the selection loop on
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
@@ -27,10 +28,12 @@
 
 pub mod acuity;
 pub mod camera;
+pub mod csf;
 pub mod display;
 mod error;
 pub mod fastmath;
 pub mod profile;
+pub mod rows;
 pub mod schedule;
 pub mod select;
 #[cfg(feature = "tools")]
@@ -39,6 +42,7 @@ mod viewpoints;
 
 pub use crate::acuity::Components;
 pub use crate::camera::{Camera, Gaze, Tracker};
+pub use crate::csf::{Observer, Photometry};
 pub use crate::display::Display;
 pub use crate::error::{Error, Result};
 pub use crate::profile::Profile;
@@ -52,9 +56,14 @@ pub use crate::select::{
 #[doc(hidden)]
 pub fn profile_for_docs() -> Profile {
     let transitions = (0..3)
-        .map(|t| profile::TransitionFrequencies {
-            lowest_cdiam: Some(400.0 / (1 << t) as f32),
-            histogram: vec![],
+        .map(|t| profile::TransitionFeatures {
+            feature_count: 1,
+            features: vec![profile::Feature {
+                freq_cdiam: 400.0 / (1 << t) as f32,
+                area_diam2: 0.001,
+                luminance: [0.0, 0.5],
+                masker: [0.0, 0.5],
+            }],
         })
         .collect();
     Profile {
@@ -63,7 +72,7 @@ pub fn profile_for_docs() -> Profile {
         lod_triangles: vec![4000, 1000, 250, 60],
         bounding_radius: 1.0,
         viewpoints: vec![[0.0, 0.0, 1.0]],
-        histogram_edges_cdiam: vec![],
+        rung_diameters_px: vec![512.0],
         transitions,
         settings: Default::default(),
         inputs: vec![],

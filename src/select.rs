@@ -1,14 +1,17 @@
 //! Per-object LOD selection: the runtime's hot loop (REFERENCE §3–§4).
 //!
 //! For every object and frame: angular size `theta = 2 asin(r / d)`,
-//! eccentricity from the gaze, smoothed retinal velocity, the threshold
-//! `T = s min(H(v, E), xi)` in c/deg, and the coarsest LOD `j` whose
-//! removed features (transitions `0..j` at the chosen viewpoint) all lie
-//! above `T`: a feature of `f` c/diam shows at `f / theta` c/deg, so LOD `j`
-//! is invisible when the prefix minimum of those frequencies exceeds
-//! `T * theta`. Prefix minima are precomputed per viewpoint, in rows padded
-//! with `-inf` to whole groups of 4, which makes the choice a count of
-//! 4-wide comparisons.
+//! eccentricity from the gaze, smoothed retinal velocity, the acuity
+//! `T = s H(v, E)` in c/deg, and the coarsest LOD `j` whose removed
+//! features (transitions `0..j` at the chosen viewpoint and the rung of the
+//! size ladder nearest the object's size on screen) are all invisible: a
+//! feature is invisible when its critical frequency in c/diam (its
+//! frequency scaled by how much contrast it has, [`crate::rows`]) exceeds
+//! `k = T * theta`. Prefix minima of the critical frequencies are compiled
+//! per viewpoint and rung when a profile is added (they depend on the
+//! display's photometry and the observer), in rows padded with `-inf` to
+//! whole groups of 4, which makes the choice a count of 4-wide
+//! comparisons.
 //!
 //! Layout. Objects with more than one LOD live in blocks of 64, field by
 //! field within a block (`f64` centre coordinates, radius, profile index,
@@ -48,10 +51,12 @@ use crate::acuity::{
     VELOCITY_CEILING_DEG_PER_S, VELOCITY_FLOOR_DEG_PER_S,
 };
 use crate::camera::{Camera, Gaze, MAX_WORLD_COORDINATE, normalized_rotation};
+use crate::csf::{Csf, Observer};
 use crate::display::Display;
 use crate::error::{Error, Result};
 use crate::fastmath;
 use crate::profile::Profile;
+use crate::rows;
 use crate::viewpoints::{self, ViewpointLookup};
 
 /// Objects per block of the store.
@@ -107,7 +112,8 @@ pub struct Diagnostics {
     pub eccentricity_deg: f32,
     /// Smoothed retinal velocity, deg/s (0 with the component off).
     pub velocity_deg_per_s: f32,
-    /// Threshold frequency `T`, c/deg.
+    /// The acuity the CSF is scaled to, `T = s H(v, E)` in c/deg: a
+    /// feature of contrast `c` is invisible above `T f_c(c) / H(0, 0)`.
     pub threshold_cpd: f32,
 }
 
@@ -145,6 +151,9 @@ pub struct SelectorSettings {
     /// results are bit-identical at every level (nothing is fused or
     /// reassociated).
     pub simd: SimdLevel,
+    /// The observer's contrast sensitivity calibration (with the
+    /// display's photometry, it decides which contrasts are visible).
+    pub observer: Observer,
 }
 
 /// The vector instructions the selection loop may use
@@ -172,6 +181,7 @@ impl Default for SelectorSettings {
             parallel_min_objects: 32_768,
             min_scale: 0.01,
             simd: SimdLevel::Widest,
+            observer: Observer::default(),
         }
     }
 }
@@ -272,9 +282,11 @@ struct CompiledProfile {
     triangles: Vec<u32>,
 }
 
-/// Where a profile's prefix-minimum rows lie in [`Selector::rows`]: row 0
-/// is the worst case over viewpoints, row `1 + v` viewpoint `v`; each has
-/// `lod_count - 1` entries padded with `-inf` to `stride`, a multiple of 4.
+/// Where a profile's prefix-minimum rows lie in [`Selector::rows`]: row
+/// `(block * rungs + rung) * stride` from `start`, block 0 the worst case
+/// over viewpoints and block `1 + v` viewpoint `v`; each has
+/// `lod_count - 1` entries padded with `-inf` to `stride`, a multiple of 4
+/// ([`crate::rows`]).
 #[derive(Clone, Copy, Debug)]
 struct ProfileRows {
     start: u32,
@@ -282,6 +294,17 @@ struct ProfileRows {
     /// Index into [`Selector::lookups`], or [`NO_LOOKUP`] for one viewpoint
     /// or the worst-case rule.
     lookup: u32,
+    /// Index into [`Selector::ladders`].
+    ladder: u32,
+}
+
+/// A size ladder shared by the profiles analysed with it: the rungs'
+/// diameters and, for the current display, the angular sizes at which an
+/// object moves up a rung.
+#[derive(Clone, Debug, PartialEq)]
+struct Ladder {
+    diameters_px: Vec<f32>,
+    boundaries_deg: Vec<f32>,
 }
 
 /// How the profiles' rows are laid out, over the profiles with more than
@@ -292,17 +315,27 @@ enum RowLayout {
     /// No profile with more than one LOD yet.
     Empty,
     /// Every row has `stride` entries; `lookup` is the one viewpoint
-    /// lookup ([`NO_LOOKUP`]: none, or the worst-case rule).
-    Uniform { stride: u32, lookup: u32 },
+    /// lookup ([`NO_LOOKUP`]: none, or the worst-case rule) and `ladder`
+    /// the one size ladder.
+    Uniform {
+        stride: u32,
+        lookup: u32,
+        ladder: u32,
+    },
     /// Strides or lookups differ: rows are found object by object.
     Mixed,
 }
 
 impl RowLayout {
-    fn admit(self, stride: u32, lookup: u32) -> Self {
+    fn admit(self, stride: u32, lookup: u32, ladder: u32) -> Self {
+        let uniform = Self::Uniform {
+            stride,
+            lookup,
+            ladder,
+        };
         match self {
-            Self::Empty => Self::Uniform { stride, lookup },
-            Self::Uniform { .. } if self == (Self::Uniform { stride, lookup }) => self,
+            Self::Empty => uniform,
+            Self::Uniform { .. } if self == uniform => self,
             _ => Self::Mixed,
         }
     }
@@ -313,6 +346,7 @@ struct Tables<'a> {
     rows: &'a [f32],
     profiles: &'a [ProfileRows],
     lookups: &'a [ViewpointLookup],
+    ladders: &'a [Ladder],
     object_profiles: &'a [u32],
     layout: RowLayout,
 }
@@ -348,10 +382,16 @@ pub struct Selector {
     settings: SelectorSettings,
     profiles: Vec<CompiledProfile>,
     profile_rows: Vec<ProfileRows>,
+    /// The profiles as added: their rows are compiled again when the
+    /// display changes.
+    sources: Vec<Profile>,
     /// Viewpoint lookups, one per distinct viewpoint set.
     lookups: Vec<ViewpointLookup>,
-    /// Per profile: the start of the row its objects use (viewpoint 0's
-    /// with the nearest-viewpoint rule and a lookup, else the worst case).
+    /// Size ladders, one per distinct set of rung diameters.
+    ladders: Vec<Ladder>,
+    /// Per profile: the start of the rows its objects use (viewpoint 0's
+    /// block with the nearest-viewpoint rule and a lookup, else the worst
+    /// case's).
     profile_row0: Vec<u32>,
     /// The profile of each object with more than one LOD.
     object_profiles: Vec<u32>,
@@ -387,7 +427,6 @@ struct FrameConsts<'a> {
     simd: SimdLevel,
     size_on: bool,
     margin_deg: f32,
-    limit_cpd: f32,
     scale: f32,
     fill_deg: f32,
     dt_valid: bool,
@@ -397,6 +436,7 @@ struct FrameConsts<'a> {
     rows: &'a [f32],
     profiles: &'a [ProfileRows],
     lookups: &'a [ViewpointLookup],
+    ladders: &'a [Ladder],
     /// The profile of each object with more than one LOD.
     object_profiles: &'a [u32],
     layout: RowLayout,
@@ -414,7 +454,9 @@ impl Selector {
             settings,
             profiles: Vec::new(),
             profile_rows: Vec::new(),
+            sources: Vec::new(),
             lookups: Vec::new(),
+            ladders: Vec::new(),
             profile_row0: Vec::new(),
             object_profiles: Vec::new(),
             layout: RowLayout::Empty,
@@ -434,10 +476,25 @@ impl Selector {
         &self.display
     }
 
-    /// Changes the display (a resized window, a new field of view); takes
-    /// effect from the next frame.
+    /// Changes the display (a resized window, a new field of view, other
+    /// photometry); takes effect from the next frame. Every profile's rows
+    /// are compiled again for it.
     pub fn set_display(&mut self, display: Display) {
         self.display = display;
+        let ppd = display.pixels_per_degree();
+        for ladder in &mut self.ladders {
+            ladder.boundaries_deg = rows::rung_boundaries_deg(&ladder.diameters_px, ppd);
+        }
+        // The observer was validated with the first profile; with none
+        // there is nothing to compile.
+        let Ok(csf) = Csf::new(display.photometry(), &self.settings.observer) else {
+            return;
+        };
+        for (profile, at) in self.sources.iter().zip(&self.profile_rows) {
+            let compiled = rows::compile(profile, display.photometry(), &csf, ppd);
+            let start = at.start as usize;
+            self.rows[start..start + compiled.rows.len()].copy_from_slice(&compiled.rows);
+        }
     }
 
     /// The settings.
@@ -445,26 +502,29 @@ impl Selector {
         &self.settings
     }
 
-    /// Adds a profile (validated again here) and precomputes its prefix
-    /// minima and viewpoint lookup (shared with earlier profiles that have
-    /// the same viewpoints).
+    /// Adds a profile (validated again here) and compiles its rows for
+    /// this selector's display and observer ([`crate::rows`]: critical
+    /// frequencies per viewpoint and rung, as prefix minima), its
+    /// viewpoint lookup and its size ladder (both shared with earlier
+    /// profiles that have the same viewpoints or rungs). Fails on an
+    /// invalid profile or observer calibration.
     pub fn add_profile(&mut self, profile: &Profile) -> Result<ProfileId> {
         profile.validate()?;
-        let n = profile.transitions_per_view();
-        let stride = n.next_multiple_of(4);
+        let csf = Csf::new(self.display.photometry(), &self.settings.observer)?;
+        let compiled = rows::compile(
+            profile,
+            self.display.photometry(),
+            &csf,
+            self.display.pixels_per_degree(),
+        );
+        let (n, stride, rungs) = (
+            profile.transitions_per_view(),
+            compiled.stride,
+            compiled.rungs,
+        );
         let start = self.rows.len();
+        self.rows.extend_from_slice(&compiled.rows);
         let views = profile.viewpoints.len();
-        let mut rows = vec![f32::NEG_INFINITY; (1 + views) * stride];
-        rows[..n].fill(f32::INFINITY);
-        for v in 0..views {
-            let mut running = f32::INFINITY;
-            for (t, tr) in profile.view_transitions(v).iter().enumerate() {
-                running = running.min(tr.lowest_cdiam.unwrap_or(f32::INFINITY));
-                rows[(1 + v) * stride + t] = running;
-                rows[t] = rows[t].min(running);
-            }
-        }
-        self.rows.extend_from_slice(&rows);
         let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
         let lookup = if nearest && views > 1 && n > 0 {
             let directions: Vec<Vec3> = profile
@@ -486,20 +546,41 @@ impl Selector {
         } else {
             NO_LOOKUP
         };
+        let diameters = &profile.rung_diameters_px;
+        let ladder = match self
+            .ladders
+            .iter()
+            .position(|l| &l.diameters_px == diameters)
+        {
+            Some(i) => i as u32,
+            None => {
+                self.ladders.push(Ladder {
+                    diameters_px: diameters.clone(),
+                    boundaries_deg: rows::rung_boundaries_deg(
+                        diameters,
+                        self.display.pixels_per_degree(),
+                    ),
+                });
+                self.ladders.len() as u32 - 1
+            }
+        };
         let viewed = (lookup != NO_LOOKUP) as usize;
-        self.profile_row0.push((start + viewed * stride) as u32);
+        self.profile_row0
+            .push((start + viewed * rungs * stride) as u32);
         if profile.lod_count() > 1 {
-            self.layout = self.layout.admit(stride as u32, lookup);
+            self.layout = self.layout.admit(stride as u32, lookup, ladder);
         }
         self.profile_rows.push(ProfileRows {
             start: start as u32,
             stride: stride as u32,
             lookup,
+            ladder,
         });
         self.profiles.push(CompiledProfile {
             lod_count: profile.lod_count(),
             triangles: profile.lod_triangles.clone(),
         });
+        self.sources.push(profile.clone());
         Ok(ProfileId(self.profiles.len() as u32 - 1))
     }
 
@@ -787,6 +868,7 @@ impl Selector {
                 rows: &self.rows,
                 profiles: &self.profile_rows,
                 lookups: &self.lookups,
+                ladders: &self.ladders,
                 object_profiles: &self.object_profiles,
                 layout: self.layout,
             },
@@ -877,7 +959,6 @@ fn frame_consts<'a>(
         simd: settings.simd,
         size_on: settings.components.size,
         margin_deg,
-        limit_cpd: display.max_frequency_cpd(),
         scale,
         fill_deg: display.filling_angular_size_deg(),
         dt_valid,
@@ -887,6 +968,7 @@ fn frame_consts<'a>(
         rows: tables.rows,
         profiles: tables.profiles,
         lookups: tables.lookups,
+        ladders: tables.ladders,
         object_profiles: tables.object_profiles,
         layout: tables.layout,
         scan_max_views: viewpoints::SCAN_MAX_VIEWS_128,
@@ -1129,6 +1211,8 @@ struct Modelled {
     k_cdiam: [f32; QUEUE],
     /// The viewpoint whose row applies.
     view: [u32; QUEUE],
+    /// The rung of the size ladder whose row applies.
+    rung: [u32; QUEUE],
     /// Start of the object's prefix-minimum row in the selector's rows.
     row: [u32; QUEUE],
     /// The chosen LOD.
@@ -1145,6 +1229,7 @@ const EMPTY_MODELLED: Modelled = Modelled {
     threshold_cpd: [0.0; QUEUE],
     k_cdiam: [0.0; QUEUE],
     view: [0; QUEUE],
+    rung: [0; QUEUE],
     row: [0; QUEUE],
     lod: [0; QUEUE],
 };
@@ -1484,7 +1569,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     // The frame's constants as locals: `m` is written through a reference,
     // and loops that read `c` through one as well do not vectorise.
     let (margin_deg, inv_dt, alpha) = (c.margin_deg, c.inv_dt, c.alpha);
-    let (scale, limit_cpd, size_on, fill_deg) = (c.scale, c.limit_cpd, c.size_on, c.fill_deg);
+    let (scale, size_on, fill_deg) = (c.scale, c.size_on, c.fill_deg);
     for i in 0..n {
         let (d2, r) = (q.d2[i], q.radius[i]);
         let inv_d = 1.0 / fastmath::max(d2, f32::MIN_POSITIVE).sqrt();
@@ -1573,7 +1658,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         } else {
             1.0
         };
-        let threshold_cpd = scale * fastmath::min(g * m_factor, limit_cpd);
+        let threshold_cpd = scale * (g * m_factor);
         let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
         let (d2, r) = (q.d2[i], q.radius[i]);
@@ -1585,7 +1670,11 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         };
     }
     match c.layout {
-        RowLayout::Uniform { stride, lookup } => {
+        RowLayout::Uniform {
+            stride,
+            lookup,
+            ladder,
+        } => {
             if NEAREST && lookup != NO_LOOKUP {
                 let dirs = [0, 1, 2].map(|a| &q.to_camera[a][..n]);
                 let lookup = &c.lookups[lookup as usize];
@@ -1593,8 +1682,17 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             } else {
                 m.view[..n].fill(0);
             }
+            let boundaries = &c.ladders[ladder as usize].boundaries_deg;
+            let rungs = boundaries.len() as u32 + 1;
+            rung_of(
+                boundaries,
+                &m.theta_deg[..n],
+                size_on,
+                fill_deg,
+                &mut m.rung[..n],
+            );
             for i in 0..n {
-                m.row[i] = q.row0[i] + m.view[i] * stride;
+                m.row[i] = q.row0[i] + (m.view[i] * rungs + m.rung[i]) * stride;
             }
             if stride == 4 {
                 count_rows::<4>(c.rows, &m.row[..n], &m.k_cdiam[..n], &mut m.lod[..n]);
@@ -1610,6 +1708,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             // it vectorises), its row, then the counts: short, independent
             // iterations overlap better than one long chain of loads.
             let mut strides = [0u32; QUEUE];
+            let mut rungs = [0u32; QUEUE];
             let mut lookups = [NO_LOOKUP; QUEUE];
             let mut resolutions = [viewpoints::MIN_RESOLUTION; QUEUE];
             for i in 0..n {
@@ -1619,7 +1718,11 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                     .copied()
                     .unwrap_or(0);
                 let profile = c.profiles[p as usize];
-                m.row[i] = profile.start;
+                let boundaries = &c.ladders[profile.ladder as usize].boundaries_deg;
+                let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
+                m.rung[i] = boundaries.iter().map(|&b| (size_deg > b) as u32).sum();
+                rungs[i] = boundaries.len() as u32 + 1;
+                m.row[i] = profile.start + m.rung[i] * profile.stride;
                 strides[i] = profile.stride;
                 if NEAREST && profile.lookup != NO_LOOKUP {
                     lookups[i] = profile.lookup;
@@ -1636,7 +1739,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                     if let Some(lookup) = c.lookups.get(lookups[i] as usize) {
                         let d = [0, 1, 2].map(|a| q.to_camera[a][i]);
                         let view = lookup.nearest_in_cell(cells[i], d) as u32;
-                        m.row[i] += (1 + view) * strides[i];
+                        m.row[i] += (1 + view) * rungs[i] * strides[i];
                     }
                 }
             }
@@ -1644,6 +1747,27 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 let row = &c.rows[m.row[i] as usize..][..strides[i] as usize];
                 m.lod[i] = count_coarser_padded(row, m.k_cdiam[i]) as u32;
             }
+        }
+    }
+}
+
+/// Each lane's rung of a size ladder: the number of `boundaries_deg` below
+/// its size on screen (`theta_deg`, or `fill_deg` with the size component
+/// off), one pass per boundary so that it vectorises.
+#[inline(always)]
+fn rung_of(
+    boundaries_deg: &[f32],
+    theta_deg: &[f32],
+    size_on: bool,
+    fill_deg: f32,
+    rungs: &mut [u32],
+) {
+    let n = theta_deg.len().min(rungs.len());
+    rungs[..n].fill(0);
+    for &b in boundaries_deg {
+        for i in 0..n {
+            let size_deg = if size_on { theta_deg[i] } else { fill_deg };
+            rungs[i] += (size_deg > b) as u32;
         }
     }
 }
@@ -1775,7 +1899,7 @@ fn write_extras(
 mod tests {
     use super::*;
     use crate::Tracker;
-    use crate::profile::{PROFILE_FORMAT_VERSION, TransitionFrequencies};
+    use crate::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
 
     /// A seeded xorshift generator, uniform in `[-1, 1)` times `scale`.
     struct Rng(u64);
@@ -1794,6 +1918,9 @@ mod tests {
         }
     }
 
+    /// The size ladder of the test profiles: 4 rungs, 16 to 128 pixels.
+    const RUNGS: [f32; 4] = [16.0, 32.0, 64.0, 128.0];
+
     fn profile(rng: &mut Rng, lods: usize, views: usize) -> Profile {
         let viewpoints = (0..views)
             .map(|_| {
@@ -1801,11 +1928,25 @@ mod tests {
                 v.normalize().to_array()
             })
             .collect();
-        let transitions = (0..views * (lods - 1))
-            .map(|t| TransitionFrequencies {
-                lowest_cdiam: (rng.next(1.0) > -0.8)
-                    .then(|| 200.0 / (1 << (t % (lods - 1))) as f32 * (1.2 + rng.next(0.6))),
-                histogram: vec![],
+        let transitions = (0..views * RUNGS.len() * (lods - 1))
+            .map(|t| {
+                let mut features: Vec<Feature> = (0..(rng.next(2.0) + 2.0) as usize)
+                    .map(|_| {
+                        let lo = rng.next(0.25) + 0.25;
+                        Feature {
+                            area_diam2: 0.001 + rng.next(0.0005),
+                            freq_cdiam: 200.0 / (1 << (t % (lods - 1))) as f32
+                                * (1.2 + rng.next(0.6)),
+                            luminance: [lo, lo + rng.next(0.25) + 0.25],
+                            masker: [0.0, rng.next(0.5) + 0.5],
+                        }
+                    })
+                    .collect();
+                features.sort_by(|a, b| a.freq_cdiam.total_cmp(&b.freq_cdiam));
+                TransitionFeatures {
+                    feature_count: features.len() as u32,
+                    features,
+                }
             })
             .collect();
         Profile {
@@ -1814,7 +1955,7 @@ mod tests {
             lod_triangles: (0..lods).map(|l| 4000 >> l).collect(),
             bounding_radius: 1.0,
             viewpoints,
-            histogram_edges_cdiam: vec![],
+            rung_diameters_px: RUNGS.to_vec(),
             transitions,
             settings: Default::default(),
             inputs: vec![],
@@ -1838,6 +1979,7 @@ mod tests {
                     rows: &sel.rows,
                     profiles: &sel.profile_rows,
                     lookups: &sel.lookups,
+                    ladders: &sel.ladders,
                     object_profiles: &sel.object_profiles,
                     layout: sel.layout,
                 },
@@ -1904,7 +2046,7 @@ mod tests {
                 } else {
                     1.0
                 };
-                let threshold_cpd = c.scale * (g * m).min(c.limit_cpd);
+                let threshold_cpd = c.scale * (g * m);
                 let size = if s.components.size {
                     theta_deg
                 } else {
@@ -1917,12 +2059,16 @@ mod tests {
                 };
                 let profile = sel.object_profiles[i] as usize;
                 let rows = sel.profile_rows[profile];
-                let mut row = rows.start as usize;
+                let ladder = &sel.ladders[rows.ladder as usize];
+                let rung = ladder.boundaries_deg.iter().filter(|&&b| size > b).count();
+                let rungs = ladder.diameters_px.len();
+                let mut block = 0;
                 if s.viewpoint_rule == ViewpointRule::Nearest && rows.lookup != NO_LOOKUP {
                     let view =
                         sel.lookups[rows.lookup as usize].nearest(rotation.conjugate() * -rel);
-                    row += (1 + view) * rows.stride as usize;
+                    block = 1 + view;
                 }
+                let row = rows.start as usize + (block * rungs + rung) * rows.stride as usize;
                 let n = sel.profiles[profile].lod_count - 1;
                 let lod = count_coarser(&sel.rows[row..row + n], k);
                 let diagnostics = Diagnostics {
@@ -2075,6 +2221,7 @@ mod tests {
                 RowLayout::Uniform {
                     stride: 8,
                     lookup: 0,
+                    ladder: 0,
                 },
             ),
             (
@@ -2083,6 +2230,7 @@ mod tests {
                 RowLayout::Uniform {
                     stride: 4,
                     lookup: NO_LOOKUP,
+                    ladder: 0,
                 },
             ),
             // More viewpoints than any vector width compares one by one.
@@ -2092,6 +2240,7 @@ mod tests {
                 RowLayout::Uniform {
                     stride: 4,
                     lookup: 0,
+                    ladder: 0,
                 },
             ),
             (&[(4, 18), (4, 18)], false, RowLayout::Mixed),

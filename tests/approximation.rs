@@ -1,30 +1,52 @@
 //! The fast selection loop (polynomial asin/acos/log10, cube-map viewpoint
 //! lookup, f32) against an exact oracle written from REFERENCE §2–§4 in
-//! f64 with the standard library's functions.
+//! f64 with the standard library's functions (the critical frequencies of
+//! the transitions, REFERENCE §8, are the library's own).
 
 mod common;
 
+use acuity::csf::Csf;
+use acuity::rows::{FieldCsfs, transition_critical_cdiam};
 use acuity::{
-    Camera, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings, Tracker,
+    Camera, Display, FrameInput, Gaze, ObjectDesc, Observer, Profile, Selector, SelectorSettings,
+    Tracker,
 };
 use common::{Rng, four_lod_profile};
 use glam::{DQuat, DVec3, Vec3};
 
 struct Oracle {
-    rows: Vec<Vec<f64>>,
+    /// Per viewpoint, per rung: prefix minima of the critical frequencies.
+    rows: Vec<Vec<Vec<f64>>>,
     views: Vec<DVec3>,
+    /// Angular sizes at which the rung goes up, deg.
+    boundaries_deg: Vec<f64>,
 }
 
 impl Oracle {
-    fn new(p: &Profile) -> Self {
+    fn new(p: &Profile, display: &Display) -> Self {
+        let photometry = display.photometry();
+        let csf = Csf::new(photometry, &Observer::default()).unwrap();
+        let mut csfs = FieldCsfs::new(&csf);
+        let ppd = display.pixels_per_degree();
         let rows = (0..p.viewpoints.len())
             .map(|v| {
-                let mut m = f64::INFINITY;
-                p.view_transitions(v)
-                    .iter()
-                    .map(|t| {
-                        m = m.min(t.lowest_cdiam.map_or(f64::INFINITY, |f| f as f64));
-                        m
+                (0..p.rung_diameters_px.len())
+                    .map(|r| {
+                        let diameter_deg = p.rung_diameters_px[r] / ppd;
+                        let mut m = f64::INFINITY;
+                        p.transitions_at(v, r)
+                            .iter()
+                            .map(|t| {
+                                let q = transition_critical_cdiam(
+                                    &t.features,
+                                    diameter_deg,
+                                    photometry,
+                                    &mut csfs,
+                                );
+                                m = m.min(q as f64);
+                                m
+                            })
+                            .collect()
                     })
                     .collect()
             })
@@ -34,7 +56,17 @@ impl Oracle {
             .iter()
             .map(|v| Vec3::from_array(*v).as_dvec3())
             .collect();
-        Self { rows, views }
+        let ppd = f64::from(ppd);
+        let boundaries_deg = p
+            .rung_diameters_px
+            .windows(2)
+            .map(|w| (w[0] as f64 * w[1] as f64).sqrt() / ppd)
+            .collect();
+        Self {
+            rows,
+            views,
+            boundaries_deg,
+        }
     }
 
     /// Returns the LOD and the smallest relative distance of `k` to any of
@@ -42,7 +74,6 @@ impl Oracle {
     #[allow(clippy::too_many_arguments)]
     fn select(
         &self,
-        xi: f64,
         cam: DVec3,
         cam_rot: DQuat,
         center: DVec3,
@@ -82,8 +113,7 @@ impl Oracle {
         } else {
             7.49 / (0.3 * e + 1.0).powi(2)
         };
-        let t = (g * m).min(xi);
-        let k = t * theta;
+        let k = g * m * theta;
         let to_camera = rot.inverse() * (cam - center).normalize();
         let view = (0..self.views.len())
             .max_by(|&a, &b| {
@@ -92,7 +122,8 @@ impl Oracle {
                     .total_cmp(&self.views[b].dot(to_camera))
             })
             .unwrap();
-        let row = &self.rows[view];
+        let rung = self.boundaries_deg.iter().filter(|&&b| theta > b).count();
+        let row = &self.rows[view][rung];
         let lod = row.iter().filter(|&&f| f > k).count();
         let margin = row
             .iter()
@@ -107,7 +138,7 @@ impl Oracle {
 fn fast_loop_picks_the_exact_models_lod() {
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
     let profile = four_lod_profile(3);
-    let oracle = Oracle::new(&profile);
+    let oracle = Oracle::new(&profile, &display);
     let mut rng = Rng(2024);
     let mut selector = Selector::new(
         display,
@@ -153,12 +184,10 @@ fn fast_loop_picks_the_exact_models_lod() {
     }
     selector.select(&frame).unwrap();
     let alpha = 1.0 - (-(dt as f64) / 0.05).exp();
-    let xi = display.max_frequency_cpd() as f64;
     let (mut agree, mut near_tie, mut clear_disagree) = (0, 0, 0);
     let mut lod_counts = [0usize; 4];
     for (id, center, prev, radius, rot) in &objects {
         let (exact, margin) = oracle.select(
-            xi,
             cam,
             cam_rot.as_dquat(),
             *center,

@@ -38,11 +38,15 @@ fn both_encodings_round_trip_bit_identical_through_files() {
 fn invalid_profiles_are_not_written() {
     let dir = temp_dir("refuse");
     let mut p = four_lod_profile(5);
-    p.transitions[7].lowest_cdiam = Some(f32::INFINITY);
+    p.transitions[7].features[0].freq_cdiam = f32::INFINITY;
     for name in ["bad.json", "bad.acp"] {
         let path = dir.join(name);
         let e = p.save(&path).unwrap_err();
-        assert!(e.to_string().contains("transitions[7].lowest_cdiam"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("transitions[7].features[0].freq_cdiam"),
+            "{e}"
+        );
         assert!(!path.exists());
     }
 }
@@ -91,10 +95,10 @@ fn errors_name_the_file() {
 fn a_newer_version_is_refused_by_number() {
     let json =
         String::from_utf8(acuity::profile::json::encode(&four_lod_profile(1)).unwrap()).unwrap();
-    let json = json.replacen("\"format_version\": 1", "\"format_version\": 2", 1);
+    let json = json.replacen("\"format_version\": 2", "\"format_version\": 3", 1);
     assert!(matches!(
         Profile::from_bytes(json.as_bytes()),
-        Err(Error::ProfileVersion { found: 2, .. })
+        Err(Error::ProfileVersion { found: 3, .. })
     ));
 }
 

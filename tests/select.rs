@@ -229,7 +229,17 @@ fn a_pursued_object_has_no_retinal_velocity() {
     }
     assert_eq!(sel.diagnostics(pursued).unwrap().velocity_deg_per_s, 0.0);
     assert!(sel.diagnostics(other).unwrap().velocity_deg_per_s > 50.0);
-    assert!(sel.selection(pursued).lod() < sel.selection(other).lod());
+    // The pursued object is judged at rest: a finer threshold, never a
+    // coarser LOD.
+    let (dp, d_other) = (
+        sel.diagnostics(pursued).unwrap(),
+        sel.diagnostics(other).unwrap(),
+    );
+    assert!(
+        dp.threshold_cpd > 5.0 * d_other.threshold_cpd,
+        "{dp:?} {d_other:?}"
+    );
+    assert!(sel.selection(pursued).lod() <= sel.selection(other).lod());
 }
 
 #[test]

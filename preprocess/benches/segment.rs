@@ -6,7 +6,7 @@
 
 use std::hint::black_box;
 
-use acuity_preprocess::frequency::unique_features;
+use acuity_preprocess::features::{FeatureSettings, unique_features};
 use acuity_preprocess::lods::{PAPER_TRIANGLE_TARGETS, ProceduralParams, procedural_object};
 use acuity_preprocess::render::Lighting;
 use acuity_preprocess::segment::{grow_regions, rgba_to_luv};
@@ -81,9 +81,16 @@ fn segmentation(c: &mut Criterion) {
         g.bench_function(format!("grow_{n}"), |bench| {
             bench.iter(|| grow_regions(black_box(&la), 2.3).count)
         });
+        // The transition's part: features grouped by the sign of the change.
+        let settings = FeatureSettings {
+            grouping: Default::default(),
+            threshold_delta_e: 2.3,
+            feret_directions: 8,
+            statistic: Default::default(),
+        };
         g.bench_function(format!("unique_features_{n}"), |bench| {
             bench.iter(|| {
-                unique_features(black_box(&la), black_box(&lb), 2.3, 8)
+                unique_features(black_box(&la), black_box(&lb), None, &settings)
                     .unwrap()
                     .0
                     .len()

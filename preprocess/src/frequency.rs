@@ -1,13 +1,6 @@
-//! Unique features of an LOD transition and their spatial frequencies.
+//! The size of a feature (a labelled set of pixels) as a spatial frequency.
 //!
 //! # Decisions
-//! - **Changed pixels**: those whose ΔE*uv between the two renderings is
-//!   *above* the threshold (the same just-noticeable difference as region
-//!   growing, [`crate::segment::DEFAULT_THRESHOLD_DELTA_E`] by default).
-//! - **One feature = one 8-connected component of the changed mask.** A
-//!   changed feature is a set of touching changed pixels; 8-connectivity
-//!   keeps thin diagonal features (a silhouette edge that moved by a pixel)
-//!   in one piece. The changed pixels are thereby "grown" into regions.
 //! - **Feret extent** along `K` directions `θ_k = k·180°/K` (`k = 0..K`):
 //!   the spread of the pixel centres projected on the direction, plus one
 //!   pixel (a pixel counts as one unit of length in every direction). A
@@ -49,16 +42,17 @@
 //!   every direction gives about the diameter, so `Longest`, `Mean` and
 //!   even `Shortest` report ~1 c/diam and the transition is never allowed
 //!   early. `Thickness` measures what acuity must resolve to see such a
-//!   sliver: its width. `Longest` stays the default because it is the
-//!   conservative bound (a compact feature's longest span is the lowest
-//!   frequency it could be seen at); `Thickness` trades that guarantee for
-//!   coarsening thin features, and agrees with the others on compact ones
-//!   (a disc gives `D` by all four).
+//!   sliver: its width, and is the default (REFERENCE §5: a feature's
+//!   relevant length is its width across). It agrees with the others on
+//!   compact features (a disc gives `D` by all four); `Longest` remains as
+//!   the bound that a compact feature's longest span is the lowest
+//!   frequency it could be seen at. A thin feature's low contrast, not a
+//!   long span, is what makes it hard to see, and the contrast is measured
+//!   separately ([`crate::features`]).
 //! - Converting to cycles per object diameter multiplies by the bounding
 //!   sphere's diameter in pixels (the image size for the analysis camera).
 
-use crate::Error;
-use crate::segment::{LuvImage, Regions, label_mask};
+use crate::segment::Regions;
 
 /// The default number of Feret directions.
 pub const DEFAULT_FERET_DIRECTIONS: u32 = 8;
@@ -66,15 +60,18 @@ pub const DEFAULT_FERET_DIRECTIONS: u32 = 8;
 /// How a feature's K extents become one length.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum FrequencyStatistic {
-    /// The longest extent (lowest frequency). Conservative; the default.
-    #[default]
+    /// The longest extent (lowest frequency): the lowest frequency a
+    /// compact feature could be seen at; a thin feature that wraps round
+    /// the object reads as coarse as the object.
     Longest,
     /// The shortest extent (the feature's width, highest frequency).
     Shortest,
     /// The mean extent over the K directions.
     Mean,
     /// The diameter of the largest inscribed disc (the feature's width,
-    /// whatever its shape or orientation; see the module docs).
+    /// whatever its shape or orientation; see the module docs). The
+    /// default: REFERENCE §5 takes a feature's width across as its length.
+    #[default]
     Thickness,
 }
 
@@ -272,123 +269,10 @@ fn lower_envelope(f: &[f64], out: &mut [f64], v: &mut [usize], z: &mut [f64]) {
     }
 }
 
-/// The mask of pixels whose ΔE*uv between `a` and `b` exceeds
-/// `threshold_delta_e`. Errors when the images differ in size.
-pub fn changed_mask(
-    a: &LuvImage,
-    b: &LuvImage,
-    threshold_delta_e: f32,
-) -> Result<Vec<bool>, Error> {
-    if (a.width, a.height) != (b.width, b.height) || a.luv.len() != b.luv.len() {
-        return Err(Error::Settings {
-            field: "images",
-            message: format!(
-                "sizes differ: {}x{} and {}x{}",
-                a.width, a.height, b.width, b.height
-            ),
-        });
-    }
-    let t2 = threshold_delta_e * threshold_delta_e;
-    Ok(a.luv
-        .iter()
-        .zip(&b.luv)
-        .map(|(p, q)| {
-            let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-            d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > t2
-        })
-        .collect())
-}
-
-/// The unique features of a pair of renderings: the 8-connected components
-/// of their changed mask, measured along `directions` Feret directions.
-/// Identical images give no features. Also returns the component labels
-/// (for inspection images).
-pub fn unique_features(
-    a: &LuvImage,
-    b: &LuvImage,
-    threshold_delta_e: f32,
-    directions: u32,
-) -> Result<(Vec<Feature>, Regions), Error> {
-    let mask = changed_mask(a, b, threshold_delta_e)?;
-    let regions = label_mask(a.width, a.height, &mask, true);
-    Ok((measure_regions(&regions, directions), regions))
-}
-
-/// How changed pixels are grouped into features.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Grouping {
-    /// 8-connected components of the changed mask (what the pipeline uses).
-    #[default]
-    ChangedMask,
-    /// As `ChangedMask`, but two changed neighbours join only when they lie
-    /// in the same CIELUV region of *both* renderings (region growing at the
-    /// same threshold): a changed area that straddles a perceptible edge of
-    /// either image is one feature per side.
-    SplitByImageRegions,
-    /// As `ChangedMask`, but two changed neighbours join only when their
-    /// changes (signed CIELUV differences) differ by less than the threshold.
-    SplitByChange,
-}
-
-/// Like [`unique_features`], with a choice of [`Grouping`].
-pub fn unique_features_grouped(
-    a: &LuvImage,
-    b: &LuvImage,
-    threshold_delta_e: f32,
-    directions: u32,
-    grouping: Grouping,
-) -> Result<(Vec<Feature>, Regions), Error> {
-    let mask = changed_mask(a, b, threshold_delta_e)?;
-    let (w, h) = (a.width, a.height);
-    let regions = match grouping {
-        Grouping::ChangedMask => label_mask(w, h, &mask, true),
-        Grouping::SplitByImageRegions => {
-            let ra = crate::segment::grow_regions(a, threshold_delta_e);
-            let rb = crate::segment::grow_regions(b, threshold_delta_e);
-            crate::segment::label_components(
-                w,
-                h,
-                true,
-                |i| mask[i],
-                |i, j| ra.labels[i] == ra.labels[j] && rb.labels[i] == rb.labels[j],
-            )
-        }
-        Grouping::SplitByChange => {
-            let t2 = threshold_delta_e * threshold_delta_e;
-            let d = |i: usize| {
-                let (p, q) = (a.luv[i], b.luv[i]);
-                [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
-            };
-            crate::segment::label_components(
-                w,
-                h,
-                true,
-                |i| mask[i],
-                |i, j| {
-                    let (x, y) = (d(i), d(j));
-                    let e = [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
-                    e[0] * e[0] + e[1] * e[1] + e[2] * e[2] < t2
-                },
-            )
-        }
-    };
-    Ok((measure_regions(&regions, directions), regions))
-}
-
-/// Every feature's frequency in cycles per pixel under `statistic`,
-/// ascending.
-pub fn frequencies_cpx(features: &[Feature], statistic: FrequencyStatistic) -> Vec<f32> {
-    let mut f: Vec<f32> = features
-        .iter()
-        .map(|x| x.frequency_cpx(statistic))
-        .collect();
-    f.sort_by(f32::total_cmp);
-    f
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::segment::label_mask;
 
     fn feature_of(w: u32, h: u32, on: impl Fn(u32, u32) -> bool, k: u32) -> Vec<Feature> {
         let mask: Vec<bool> = (0..w * h).map(|i| on(i % w, i / w)).collect();

@@ -1,18 +1,21 @@
 //! acuity's offline pass: render each LOD of an object from viewpoints
 //! spread over its view sphere, find the features each LOD transition
 //! removes, and measure their spatial frequencies in cycles per object
-//! diameter (REFERENCE §1 and §5).
+//! diameter and their contrast, at a ladder of on-screen sizes
+//! (REFERENCE §1 and §5).
 //!
 //! Modules, one concept each: [`mesh`] (OBJ/MTL loading), [`lods`] (LOD
 //! chains, simplification, a procedural test object), [`views`]
 //! (viewpoints and camera), [`render`] (the shared headless renderer),
-//! [`segment`] (CIELUV and region growing), [`frequency`] (unique features
-//! and their frequencies), [`pipeline`] (the whole analysis).
+//! [`segment`] (CIELUV and region growing), [`frequency`] (a feature's
+//! size as a frequency), [`features`] (the unique features of a
+//! transition and their contrast), [`pipeline`] (the whole analysis).
 //!
 //! The crate returns plain data ([`ObjectAnalysis`]); the `acuity` crate
 //! turns it into its profile format. This crate does not depend on it.
 
 pub mod error;
+pub mod features;
 pub mod frequency;
 pub mod lods;
 pub mod mesh;
@@ -25,7 +28,7 @@ pub use error::Error;
 pub use frequency::FrequencyStatistic;
 pub use mesh::{LoadedMesh, Mesh};
 pub use pipeline::{
-    AnalysisSettings, InputHash, ObjectAnalysis, ObjectSource, Progress, RunOptions,
+    AnalysisSettings, FeatureRecord, InputHash, ObjectAnalysis, ObjectSource, Progress, RunOptions,
     TransitionAnalysis, analyse, analyse_many, input_hashes,
 };
 pub use render::{MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};

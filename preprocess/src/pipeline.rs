@@ -1,8 +1,18 @@
 //! The whole offline analysis of an object: load or generate its LOD chain,
-//! render every LOD from every viewpoint, and measure the unique features of
-//! every transition.
+//! render every LOD from every viewpoint at every size of a ladder of
+//! on-screen sizes, and measure the unique features of every transition
+//! (their frequency and contrast, [`crate::features`]).
 //!
 //! # Decisions
+//! - **A ladder of on-screen sizes**: what a transition changes at 512
+//!   pixels is not what survives when the object covers 30, so every LOD is
+//!   rendered with its bounding sphere `D` pixels across for each `D` of
+//!   [`AnalysisSettings::diameters_px`] (halving from `resolution_px` down
+//!   to `min_diameter_px`: 16, 32, ..., 512 by default), the way the scene
+//!   renderer draws an object of that size (same shading, same
+//!   anti-aliasing). The run time uses the rung nearest the object's pixel
+//!   diameter, so what the display cannot show at that size is not in the
+//!   images it judges.
 //! - **One renderer** (one device) is passed in and shared by every object
 //!   and view. Views are rendered one after the other (the GPU queue is
 //!   serial; llvmpipe rasterises with its own threads) and each view's CPU
@@ -16,10 +26,19 @@
 //! - **Background**: a fixed colour, black by default, the largest contrast
 //!   against lit surfaces (silhouettes are the most visible features, as
 //!   Luebke & Hallen argue).
+//! - **Transitions are measured from full detail**: transition `i` holds
+//!   the features LOD `i + 1` lacks compared with LOD 0, not with LOD `i`.
+//!   Consecutive LODs can each differ by a fraction of a pixel while the
+//!   coarsest differs from full detail by several (a silhouette moved a
+//!   little at every step), and what the viewer compares, and what the
+//!   selection promises, is full detail against the LOD drawn.
+//! - **Anti-aliasing**: 4x MSAA by default, as real applications draw and
+//!   as the scene renderer draws; without it every LOD swap also moves
+//!   aliased edges.
 //! - **Frequencies** are `f_cpx × D` cycles per object diameter with `D` the
-//!   bounding sphere's diameter in pixels (= `resolution_px`, orthographic
-//!   camera; see [`crate::views`]). The bounding sphere is LOD 0's and
-//!   frames every LOD.
+//!   bounding sphere's diameter in pixels (the rung's image size,
+//!   orthographic camera; see [`crate::views`]). The bounding sphere is
+//!   LOD 0's and frames every LOD.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -27,7 +46,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 
-use crate::frequency::{self, Feature, FrequencyStatistic};
+use crate::features::{self, FeatureSettings, Grouping, UniqueFeature, Visibility};
+use crate::frequency::{self, FrequencyStatistic};
 use crate::lods::{self, ProceduralParams};
 use crate::render::{Lighting, MeshId, RenderRequest, Renderer};
 use crate::segment::{self, LuvImage, Regions};
@@ -36,26 +56,35 @@ use crate::{Error, Mesh};
 
 /// Version of the analysis algorithm, part of the settings hash so that
 /// profiles made by an older algorithm are not reused.
-pub const ANALYSIS_VERSION: u32 = 1;
+pub const ANALYSIS_VERSION: u32 = 2;
 
 /// Settings of the analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AnalysisSettings {
-    /// Square image size in pixels, 16..=8192 (default 512). The bounding
-    /// sphere's diameter spans the whole image.
+    /// Largest rung of the size ladder: square image size in pixels,
+    /// 16..=8192 (default 512). The bounding sphere's diameter spans the
+    /// whole image.
     pub resolution_px: u32,
+    /// Smallest rung of the size ladder, pixels, 4..=`resolution_px`
+    /// (default 16); rungs halve from `resolution_px` while they are at
+    /// least this ([`AnalysisSettings::diameters_px`]). Equal to
+    /// `resolution_px`: one analysis size.
+    pub min_diameter_px: u32,
     /// View-sphere subdivision level, 0..=6: 6, 18 (default, level 1), 66,
     /// 258, ... viewpoints.
     pub viewpoint_level: u32,
-    /// ΔE*uv just-noticeable difference, > 0 (default 2.3); used for region
-    /// growing and for deciding which pixels changed.
+    /// How changed pixels are grouped into features (default: by the sign
+    /// of the change; see [`crate::features`]).
+    pub grouping: Grouping,
+    /// ΔE*uv just-noticeable difference of region growing, > 0 (default
+    /// 2.3); used by [`Grouping::Regions`].
     pub threshold_delta_e: f32,
     /// Number of Feret directions K, 4..=360 (default 8).
     pub feret_directions: u32,
-    /// MSAA samples, 1 (default) or what the adapter supports; must match
-    /// the [`Renderer`]'s.
+    /// MSAA samples, 4 (default), 1 (none) or what the adapter supports;
+    /// must match the [`Renderer`]'s.
     pub msaa_samples: u32,
-    /// How a feature's extents become one length (default longest).
+    /// How a feature's extents become one length (default thickness).
     pub statistic: FrequencyStatistic,
     /// Background colour, sRGB8 (default black).
     pub background_srgb: [u8; 3],
@@ -65,17 +94,29 @@ impl Default for AnalysisSettings {
     fn default() -> Self {
         Self {
             resolution_px: 512,
+            min_diameter_px: 16,
             viewpoint_level: 1,
+            grouping: Grouping::ChangeSign,
             threshold_delta_e: segment::DEFAULT_THRESHOLD_DELTA_E,
             feret_directions: frequency::DEFAULT_FERET_DIRECTIONS,
-            msaa_samples: 1,
-            statistic: FrequencyStatistic::Longest,
+            msaa_samples: crate::render::DEFAULT_MSAA_SAMPLES,
+            statistic: FrequencyStatistic::Thickness,
             background_srgb: [0, 0, 0],
         }
     }
 }
 
 impl AnalysisSettings {
+    /// The rungs of the size ladder, ascending: `resolution_px` halved
+    /// (rounding down) while the result is at least `min_diameter_px`.
+    pub fn diameters_px(&self) -> Vec<u32> {
+        let mut d: Vec<u32> = std::iter::successors(Some(self.resolution_px), |&d| Some(d / 2))
+            .take_while(|&d| d >= self.min_diameter_px.max(1))
+            .collect();
+        d.reverse();
+        d
+    }
+
     /// Checks every field's domain; the error names the field.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |field, message: String| Err(Error::Settings { field, message });
@@ -83,6 +124,15 @@ impl AnalysisSettings {
             return bad(
                 "resolution_px",
                 format!("{} outside 16..=8192", self.resolution_px),
+            );
+        }
+        if !(4..=self.resolution_px).contains(&self.min_diameter_px) {
+            return bad(
+                "min_diameter_px",
+                format!(
+                    "{} outside 4..={} (resolution_px)",
+                    self.min_diameter_px, self.resolution_px
+                ),
             );
         }
         if self.viewpoint_level > views::MAX_VIEWPOINT_LEVEL {
@@ -207,8 +257,11 @@ pub struct ObjectAnalysis {
     /// Viewpoints: unit vectors in the object's frame, centre → camera, in
     /// [`views::viewpoints`] order.
     pub viewpoints: Vec<[f32; 3]>,
-    /// Viewpoint-major: index `view * (n_lods - 1) + transition`, where
-    /// transition `i` is LOD `i` → LOD `i + 1`.
+    /// The size ladder: the bounding sphere's diameter in pixels of each
+    /// rung, ascending ([`AnalysisSettings::diameters_px`]).
+    pub diameters_px: Vec<u32>,
+    /// Index `(view * diameters + rung) * (n_lods - 1) + transition`, where
+    /// transition `i` is LOD 0 → LOD `i + 1` (see the module docs).
     pub transitions: Vec<TransitionAnalysis>,
     /// Hashes of every input (see [`input_hashes`]).
     pub input_hashes: Vec<InputHash>,
@@ -216,50 +269,67 @@ pub struct ObjectAnalysis {
     pub warnings: Vec<String>,
 }
 
-/// The unique features of one transition at one viewpoint.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TransitionAnalysis {
-    /// The lowest unique frequency, cycles per object diameter; `None` when
-    /// the two LODs look the same (no perceptible difference).
-    pub lowest_cdiam: Option<f32>,
-    /// Every unique feature's frequency, cycles per object diameter,
-    /// ascending (one entry per feature; many may be at the pixel limit
-    /// `D / 2`).
-    pub frequencies_cdiam: Vec<f32>,
-}
-
-impl TransitionAnalysis {
-    /// A histogram of `frequencies_cdiam` over `edges` (ascending bin
-    /// edges, c/diam): `counts[i]` counts `edges[i] <= f < edges[i + 1]`;
-    /// frequencies outside are not counted.
-    pub fn histogram(&self, edges: &[f32]) -> Vec<u32> {
-        let mut counts = vec![0u32; edges.len().saturating_sub(1)];
-        for &f in &self.frequencies_cdiam {
-            if let Some(i) = edges.windows(2).position(|w| w[0] <= f && f < w[1]) {
-                counts[i] += 1;
-            }
-        }
-        counts
+impl ObjectAnalysis {
+    /// The transitions seen from `view` at rung `rung`, `0 -> 1` first.
+    pub fn transitions_at(&self, view: usize, rung: usize) -> &[TransitionAnalysis] {
+        let n = self.lod_triangles.len().saturating_sub(1);
+        let i = (view * self.diameters_px.len() + rung) * n;
+        &self.transitions[i..i + n]
     }
 }
 
-/// Progress of one object's analysis, reported after each viewpoint.
+/// The unique features of one transition at one viewpoint and size.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TransitionAnalysis {
+    /// Number of unique features found; 0 when the two LODs look the same.
+    pub feature_count: u32,
+    /// The features that can be the most visible (the Pareto set of
+    /// [`features::most_visible`]), ascending by frequency.
+    pub features: Vec<FeatureRecord>,
+}
+
+/// A unique feature as the profile stores it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeatureRecord {
+    /// Spatial frequency, cycles per object diameter (> 0).
+    pub freq_cdiam: f32,
+    /// Area in units of the squared bounding-sphere diameter (its pixel
+    /// count over `D²`).
+    pub area_diam2: f32,
+    /// Relative linear luminance `[lower, higher]` of the feature in the
+    /// two renderings (see [`UniqueFeature::luminance`]).
+    pub luminance: [f32; 2],
+    /// Relative linear luminance range `[lowest, highest]` of what masks
+    /// it (see [`UniqueFeature::masker`]).
+    pub masker: [f32; 2],
+}
+
+impl TransitionAnalysis {
+    /// The lowest frequency among the stored features, c/diam.
+    pub fn lowest_cdiam(&self) -> Option<f32> {
+        self.features.first().map(|f| f.freq_cdiam)
+    }
+}
+
+/// Progress of one object's analysis, reported after each viewpoint at
+/// each rung of the size ladder.
 #[derive(Debug, Clone, Copy)]
 pub struct Progress<'a> {
     /// The object's name.
     pub object: &'a str,
-    /// Viewpoints finished so far.
-    pub views_done: usize,
-    /// Viewpoints in total.
-    pub views_total: usize,
+    /// (Viewpoint, rung) pairs analysed so far.
+    pub done: usize,
+    /// (Viewpoint, rung) pairs in total.
+    pub total: usize,
 }
 
 /// Options of a run that do not change its results.
 #[derive(Clone, Copy, Default)]
 pub struct RunOptions<'a> {
-    /// When set, write every rendering (`<dir>/<object>/view###_lod#.png`)
-    /// and every transition's unique features, coloured by feature
-    /// (`view###_t#-#_features.png`).
+    /// When set, write every rendering
+    /// (`<dir>/<object>/d###_view###_lod#.png`, `d` the rung's diameter in
+    /// pixels) and every transition's unique features, coloured by feature
+    /// (`d###_view###_t#-#_features.png`).
     pub inspect_dir: Option<&'a Path>,
     /// Called from worker threads after each viewpoint.
     pub progress: Option<&'a (dyn Fn(&Progress<'_>) + Sync)>,
@@ -345,6 +415,7 @@ pub fn analyse_lods(
         None => None,
     };
 
+    let diameters = settings.diameters_px();
     let ids: Vec<MeshId> = lods
         .iter()
         .map(|m| renderer.upload_mesh(m))
@@ -354,6 +425,7 @@ pub fn analyse_lods(
         name,
         &ids,
         &viewpoints,
+        &diameters,
         (centre, radius),
         settings,
         run,
@@ -367,68 +439,82 @@ pub fn analyse_lods(
         lod_triangles: lods.iter().map(|m| m.triangle_count() as u32).collect(),
         bounding_sphere: (centre, radius),
         viewpoints,
+        diameters_px: diameters,
         transitions: result?,
         input_hashes: Vec::new(),
         warnings: Vec::new(),
     })
 }
 
+/// Renders every LOD for every (rung, viewpoint) pair, rung by rung (one
+/// render target size at a time), and measures each pair's transitions on
+/// rayon while the next pair renders.
 #[allow(clippy::too_many_arguments)]
 fn render_and_measure(
     renderer: &Renderer,
     name: &str,
     ids: &[MeshId],
     viewpoints: &[[f32; 3]],
+    diameters: &[u32],
     sphere: ([f32; 3], f32),
     settings: &AnalysisSettings,
     run: &RunOptions<'_>,
     inspect: Option<&Path>,
 ) -> Result<Vec<TransitionAnalysis>, Error> {
-    let res = settings.resolution_px;
     let n_trans = ids.len() - 1;
+    let (n_views, n_rungs) = (viewpoints.len(), diameters.len());
+    let total = n_views * n_rungs;
     let done = AtomicUsize::new(0);
-    let (tx, rx) = std::sync::mpsc::channel::<(usize, Result<Vec<TransitionAnalysis>, Error>)>();
+    type Measured = (usize, Result<Vec<TransitionAnalysis>, Error>);
+    let (tx, rx) = std::sync::mpsc::channel::<Measured>();
     let render_result: Result<(), Error> = rayon::scope(|s| {
-        for (v, &dir) in viewpoints.iter().enumerate() {
-            let cam = views::camera_for(dir, sphere.0, sphere.1, res);
-            let lighting = camera_light(&cam.view);
-            let mut images = Vec::with_capacity(ids.len());
-            for id in ids {
-                let out = renderer.render(&RenderRequest {
-                    width: res,
-                    height: res,
-                    view_proj: cam.view_proj,
-                    instances: &[(*id, Mat4::IDENTITY)],
-                    lighting,
-                    background_srgb: settings.background_srgb,
-                })?;
-                images.push(out.rgba);
-            }
-            let tx = tx.clone();
-            let done = &done;
-            s.spawn(move |_| {
-                let r = measure_view(&images, res, cam.sphere_diameter_px, settings, inspect, v);
-                let _ = tx.send((v, r));
-                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(p) = run.progress {
-                    p(&Progress {
-                        object: name,
-                        views_done: n,
-                        views_total: viewpoints.len(),
-                    });
+        for (rung, &res) in diameters.iter().enumerate() {
+            for (v, &dir) in viewpoints.iter().enumerate() {
+                let cam = views::camera_for(dir, sphere.0, sphere.1, res);
+                let lighting = camera_light(&cam.view);
+                let mut images = Vec::with_capacity(ids.len());
+                for id in ids {
+                    let out = renderer.render(&RenderRequest {
+                        width: res,
+                        height: res,
+                        view_proj: cam.view_proj,
+                        instances: &[(*id, Mat4::IDENTITY)],
+                        lighting,
+                        background_srgb: settings.background_srgb,
+                    })?;
+                    images.push(out.rgba);
                 }
-            });
+                let tx = tx.clone();
+                let done = &done;
+                s.spawn(move |_| {
+                    let at = ViewAt {
+                        view: v,
+                        res,
+                        diameter_px: cam.sphere_diameter_px,
+                    };
+                    let r = measure_view(&images, &at, settings, inspect);
+                    let _ = tx.send((v * n_rungs + rung, r));
+                    let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    if let Some(p) = run.progress {
+                        p(&Progress {
+                            object: name,
+                            done: n,
+                            total,
+                        });
+                    }
+                });
+            }
         }
         Ok(())
     });
     drop(tx);
     render_result?;
-    let mut per_view: Vec<Option<Vec<TransitionAnalysis>>> = vec![None; viewpoints.len()];
-    for (v, r) in rx {
-        per_view[v] = Some(r?);
+    let mut per_pair: Vec<Option<Vec<TransitionAnalysis>>> = vec![None; total];
+    for (i, r) in rx {
+        per_pair[i] = Some(r?);
     }
-    let mut out = Vec::with_capacity(viewpoints.len() * n_trans);
-    for t in per_view {
+    let mut out = Vec::with_capacity(total * n_trans);
+    for t in per_pair {
         out.extend(t.ok_or_else(|| Error::Gpu {
             message: "a viewpoint's analysis did not finish".into(),
         })?);
@@ -448,58 +534,89 @@ fn camera_light(view: &Mat4) -> Lighting {
     }
 }
 
-/// Converts one view's LOD images to CIELUV and measures each transition.
+/// Which rendering a set of LOD images is.
+struct ViewAt {
+    view: usize,
+    /// Image size, pixels.
+    res: u32,
+    /// Bounding sphere diameter, pixels.
+    diameter_px: f32,
+}
+
+/// Converts one view's LOD images to CIELUV, grows each one's regions and
+/// measures each transition.
 fn measure_view(
     images: &[Vec<u8>],
-    res: u32,
-    diameter_px: f32,
+    at: &ViewAt,
     settings: &AnalysisSettings,
     inspect: Option<&Path>,
-    view: usize,
 ) -> Result<Vec<TransitionAnalysis>, Error> {
+    let res = at.res;
     let luv: Vec<LuvImage> = images
         .par_iter()
         .map(|im| segment::rgba_to_luv(res, res, im))
         .collect::<Result<_, _>>()?;
+    let regions: Vec<Regions> = if settings.grouping == Grouping::Regions {
+        luv.par_iter()
+            .map(|im| segment::grow_regions(im, settings.threshold_delta_e))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let prefix = format!("d{res:03}_view{:03}", at.view);
     if let Some(dir) = inspect {
         for (i, im) in images.iter().enumerate() {
-            write_png(&dir.join(format!("view{view:03}_lod{i}.png")), res, im)?;
+            write_png(&dir.join(format!("{prefix}_lod{i}.png")), res, im)?;
         }
     }
+    let feature_settings = FeatureSettings {
+        grouping: settings.grouping,
+        threshold_delta_e: settings.threshold_delta_e,
+        feret_directions: settings.feret_directions,
+        statistic: settings.statistic,
+    };
     (0..images.len() - 1)
         .into_par_iter()
         .map(|t| {
-            let (features, regions) = frequency::unique_features(
-                &luv[t],
-                &luv[t + 1],
-                settings.threshold_delta_e,
-                settings.feret_directions,
-            )?;
+            let pair = regions.get(t + 1).map(|r| (&regions[0], r));
+            let (features, labels) =
+                features::unique_features(&luv[0], &luv[t + 1], pair, &feature_settings)?;
             if let Some(dir) = inspect {
                 write_png(
-                    &dir.join(format!("view{view:03}_t{}-{}_features.png", t, t + 1)),
+                    &dir.join(format!("{prefix}_t0-{}_features.png", t + 1)),
                     res,
-                    &feature_image(&regions),
+                    &feature_image(&labels),
                 )?;
             }
-            Ok(transition_from(&features, settings.statistic, diameter_px))
+            Ok(transition_from(&features, at.diameter_px))
         })
         .collect()
 }
 
-/// Builds a [`TransitionAnalysis`] from measured features.
-pub fn transition_from(
-    features: &[Feature],
-    statistic: FrequencyStatistic,
-    diameter_px: f32,
-) -> TransitionAnalysis {
-    let f: Vec<f32> = frequency::frequencies_cpx(features, statistic)
-        .into_iter()
-        .map(|f| f * diameter_px)
+/// Builds a [`TransitionAnalysis`] from measured features: frequencies in
+/// c/diam for a bounding sphere `diameter_px` across, reduced to the
+/// features that can be the most visible.
+pub fn transition_from(features: &[UniqueFeature], diameter_px: f32) -> TransitionAnalysis {
+    let all: Vec<Visibility> = features
+        .iter()
+        .map(|f| Visibility {
+            freq: f.freq_cpx * diameter_px,
+            area: f.shape.pixel_count as f32 / (diameter_px * diameter_px),
+            luminance: f.luminance,
+            masker: f.masker,
+        })
         .collect();
     TransitionAnalysis {
-        lowest_cdiam: f.first().copied(),
-        frequencies_cdiam: f,
+        feature_count: features.len() as u32,
+        features: features::most_visible(&all)
+            .into_iter()
+            .map(|i| FeatureRecord {
+                freq_cdiam: all[i].freq,
+                area_diam2: all[i].area,
+                luminance: all[i].luminance,
+                masker: all[i].masker,
+            })
+            .collect(),
     }
 }
 

@@ -18,14 +18,14 @@
 //!   target encodes to sRGB, so the bytes read back are sRGB8 — exactly what
 //!   [`crate::segment`] converts to CIELUV. Rows are top first, tightly
 //!   packed (the 256-byte row padding of the copy is stripped).
-//! - **No MSAA** by default. With `msaa_samples > 1` edges are blended over
-//!   a pixel or so; blended edge pixels differ less between LODs, so a
-//!   silhouette shift of one pixel may fall below the ΔE threshold and thin
-//!   features read as slightly shorter/lower contrast, i.e. anti-aliasing
-//!   removes some of the highest (≈ Nyquist) frequencies and can only move
-//!   measured frequencies up slightly, never create low ones.
+//! - **4x MSAA** by default ([`DEFAULT_MSAA_SAMPLES`]), as real applications
+//!   draw: edges are blended over a pixel, so a silhouette that moves by a
+//!   fraction of a pixel between LODs changes its edge pixels by that
+//!   fraction (a low-contrast change), not by a whole aliased step. The
+//!   offline pass and the scene renderer draw alike. `msaa_samples = 1`
+//!   turns it off.
 //! - **Deterministic**: the same requests give the same bytes (fixed
-//!   pipeline state, no blending, no MSAA unless chosen; llvmpipe rasterises
+//!   pipeline state and sample pattern, no blending; llvmpipe rasterises
 //!   deterministically).
 //! - **Per frame** only the uniforms and instance data are written; the
 //!   targets, their views and the readback buffer are made once per size,
@@ -48,6 +48,10 @@ use std::sync::Mutex;
 use glam::{Mat3, Mat4, Vec3};
 
 use crate::{Error, Mesh};
+
+/// MSAA samples of [`RendererOptions::default`] (and of the offline pass's
+/// default settings).
+pub const DEFAULT_MSAA_SAMPLES: u32 = 4;
 
 /// The colour target's format. See the module docs.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -116,14 +120,16 @@ pub struct RenderOutput {
 /// Options for [`Renderer::new`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RendererOptions {
-    /// MSAA sample count: 1 (default, no anti-aliasing) or a count the
-    /// adapter supports for `Rgba8UnormSrgb` (usually 4).
+    /// MSAA sample count: 4 (default), 1 (no anti-aliasing) or another
+    /// count the adapter supports for `Rgba8UnormSrgb`.
     pub msaa_samples: u32,
 }
 
 impl Default for RendererOptions {
     fn default() -> Self {
-        Self { msaa_samples: 1 }
+        Self {
+            msaa_samples: DEFAULT_MSAA_SAMPLES,
+        }
     }
 }
 

@@ -1,5 +1,5 @@
-//! The whole analysis on the procedural test object: frequencies ordered as
-//! the LODs coarsen, determinism, error isolation, input hashes.
+//! The whole analysis on the procedural test object: coarser LODs change
+//! coarser features, determinism, error isolation, input hashes.
 
 use std::time::Instant;
 
@@ -42,15 +42,26 @@ fn lowest_unique_frequency_falls_as_the_lods_coarsen() {
         t0.elapsed().as_secs_f64()
     );
     let nt = a.lod_triangles.len() - 1;
+    let top = a.diameters_px.len() - 1;
+    assert_eq!(a.diameters_px, [16, 32, 64, 128, 256, 512]);
     let mut first_above_last = 0;
     let mut monotone = 0;
     for v in 0..a.viewpoints.len() {
-        let t = &a.transitions[v * nt..(v + 1) * nt];
+        let t = a.transitions_at(v, top);
+        // The lowest frequency among features of at least 10% contrast.
         let low: Vec<f32> = t
             .iter()
-            .map(|x| x.lowest_cdiam.unwrap_or(f32::INFINITY))
+            .map(|x| {
+                x.features
+                    .iter()
+                    .filter(|f| {
+                        (f.luminance[1] - f.luminance[0]) >= 0.1 * (f.luminance[1] + f.luminance[0])
+                    })
+                    .map(|f| f.freq_cdiam)
+                    .fold(f32::INFINITY, f32::min)
+            })
             .collect();
-        let counts: Vec<usize> = t.iter().map(|x| x.frequencies_cdiam.len()).collect();
+        let counts: Vec<u32> = t.iter().map(|x| x.feature_count).collect();
         eprintln!(
             "view {v:2} {:?}: lowest c/diam {low:?}, features {counts:?}",
             a.viewpoints[v]
@@ -89,17 +100,14 @@ fn two_runs_give_identical_results() {
     )
     .unwrap();
     assert_eq!(a, b);
-    assert_eq!(a.transitions.len(), 6 * 3);
-    assert!(
-        a.transitions
-            .iter()
-            .all(|t| t.frequencies_cdiam.windows(2).all(|w| w[0] <= w[1]))
-    );
-    assert!(
-        a.transitions
-            .iter()
-            .all(|t| t.lowest_cdiam == t.frequencies_cdiam.first().copied())
-    );
+    assert_eq!(a.diameters_px, [16, 32, 64, 128]);
+    assert_eq!(a.transitions.len(), 6 * 4 * 3);
+    assert!(a.transitions.iter().all(|t| {
+        t.features
+            .windows(2)
+            .all(|w| w[0].freq_cdiam <= w[1].freq_cdiam)
+            && t.features.len() <= t.feature_count as usize
+    }));
 }
 
 #[test]
@@ -125,7 +133,7 @@ fn identical_lods_have_no_unique_features() {
         &RunOptions::default(),
     )
     .unwrap();
-    assert!(a.transitions.iter().any(|t| t.lowest_cdiam.is_some()));
+    assert!(a.transitions.iter().any(|t| t.lowest_cdiam().is_some()));
     // Render the same LOD twice through the pipeline's own path: no features.
     let img = |mesh: &acuity_preprocess::Mesh| {
         let cam = acuity_preprocess::views::camera_for([0.0, 1.0, 0.0], [0.0; 3], 1.6, 64);
@@ -142,8 +150,14 @@ fn identical_lods_have_no_unique_features() {
             .unwrap();
         acuity_preprocess::segment::rgba_to_luv(64, 64, &out.rgba).unwrap()
     };
+    let settings = acuity_preprocess::features::FeatureSettings {
+        grouping: Default::default(),
+        threshold_delta_e: 2.3,
+        feret_directions: 8,
+        statistic: Default::default(),
+    };
     let (f, _) =
-        acuity_preprocess::frequency::unique_features(&img(&coarse), &img(&coarse), 2.3, 8)
+        acuity_preprocess::features::unique_features_of(&img(&coarse), &img(&coarse), &settings)
             .unwrap();
     assert!(f.is_empty());
 }

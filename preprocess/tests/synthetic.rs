@@ -2,7 +2,8 @@
 //! frequencies within 5% of the truth (REFERENCE §5; issue 3).
 
 use FrequencyStatistic::*;
-use acuity_preprocess::frequency::{FrequencyStatistic, frequencies_cpx, unique_features};
+use acuity_preprocess::features::{FeatureSettings, UniqueFeature, unique_features_of};
+use acuity_preprocess::frequency::{Feature, FrequencyStatistic};
 use acuity_preprocess::segment::{LuvImage, srgb8_to_luv};
 
 const N: u32 = 256;
@@ -35,10 +36,31 @@ fn pair(shape: impl Fn(f32, f32) -> bool) -> (LuvImage, LuvImage) {
     )
 }
 
+/// The shapes of the unique features between `a` and `b` (ΔE*uv 2.3, K
+/// Feret directions).
+fn unique_features(a: &LuvImage, b: &LuvImage, k: u32) -> Vec<Feature> {
+    let settings = FeatureSettings {
+        grouping: Default::default(),
+        threshold_delta_e: 2.3,
+        feret_directions: k,
+        statistic: FrequencyStatistic::Thickness,
+    };
+    let (features, _) = unique_features_of(a, b, &settings).unwrap();
+    features
+        .into_iter()
+        .map(|f: UniqueFeature| f.shape)
+        .collect()
+}
+
+/// Every feature's frequency in cycles per pixel under `stat`, ascending.
 fn freqs(shape: impl Fn(f32, f32) -> bool, stat: FrequencyStatistic, k: u32) -> Vec<f32> {
     let (a, b) = pair(shape);
-    let (features, _) = unique_features(&a, &b, 2.3, k).unwrap();
-    frequencies_cpx(&features, stat)
+    let mut f: Vec<f32> = unique_features(&a, &b, k)
+        .iter()
+        .map(|x| x.frequency_cpx(stat))
+        .collect();
+    f.sort_by(f32::total_cmp);
+    f
 }
 
 fn assert_within(measured: f32, truth: f32, what: &str) {
@@ -64,14 +86,32 @@ fn bar(w: f32, l: f32, deg: f32) -> impl Fn(f32, f32) -> bool {
 #[test]
 fn identical_images_have_no_features() {
     let (a, _) = pair(|_, _| false);
-    let (f, _) = unique_features(&a, &a.clone(), 2.3, 8).unwrap();
+    let f = unique_features(&a, &a.clone(), 8);
     assert!(f.is_empty());
-    // A change below the threshold is not a feature either.
+}
+
+#[test]
+fn a_faint_change_is_a_feature_with_its_contrast() {
+    // Every difference counts; its contrast decides whether it is seen.
+    let (a, _) = pair(|_, _| false);
     let mut b = a.clone();
-    for p in &mut b.luv {
-        p[0] += 2.0;
+    for p in &mut b.luv[..(N * N / 2) as usize] {
+        p[0] += 0.5;
     }
-    assert!(unique_features(&a, &b, 2.3, 8).unwrap().0.is_empty());
+    let settings = FeatureSettings {
+        grouping: Default::default(),
+        threshold_delta_e: 2.3,
+        feret_directions: 8,
+        statistic: FrequencyStatistic::Thickness,
+    };
+    let (f, _) = unique_features_of(&a, &b, &settings).unwrap();
+    assert_eq!(f.len(), 1);
+    assert_eq!(f[0].shape.pixel_count, N * N / 2);
+    let y = |l: f32| acuity_preprocess::features::luminance_of_lightness(l);
+    let (ya, yb) = (y(a.luv[0][0]), y(a.luv[0][0] + 0.5));
+    let want = (yb - ya) / (yb + ya);
+    assert!((f[0].luminance_contrast - want).abs() < 1e-4, "{f:?}");
+    assert!(f[0].contrast() >= f[0].luminance_contrast);
 }
 
 #[test]
@@ -191,13 +231,13 @@ fn thickness_of_thin_bars_is_within_a_pixel() {
     for w in [1.0f32, 2.0, 3.0, 5.0, 8.0] {
         for deg in [0.0f32, 90.0] {
             let (a, b) = pair(bar(w, 150.0, deg));
-            let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+            let f = unique_features(&a, &b, 8);
             assert_eq!(f.len(), 1);
             assert_eq!(f[0].thickness_px, w, "bar width {w} at {deg} deg");
         }
         for deg in [10.0f32, 30.0, 45.0, 77.0, 135.0] {
             let (a, b) = pair(bar(w.max(2.0), 150.0, deg));
-            let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+            let f = unique_features(&a, &b, 8);
             // A 1 px slanted bar breaks into 8-connected steps; w >= 2 stays whole.
             let t = f.iter().map(|x| x.thickness_px).fold(0.0, f32::max);
             assert!(
@@ -234,7 +274,7 @@ fn a_ring_is_as_thick_as_its_width_though_its_span_is_its_diameter() {
             r <= outer / 2.0 && r > outer / 2.0 - w
         };
         let (a, b) = pair(ring);
-        let (f, _) = unique_features(&a, &b, 2.3, 8).unwrap();
+        let f = unique_features(&a, &b, 8);
         assert_eq!(f.len(), 1, "ring {w}");
         assert!(
             (f[0].thickness_px - w).abs() <= 1.0,

@@ -4,16 +4,19 @@
 //! length and UTF-8 bytes, lists as a `u32` count and their items:
 //!
 //! ```text
-//! magic            8 bytes  "ACUITYP\0"
-//! format_version   u32
-//! name             string
-//! lod_triangles    list of u32
-//! bounding_radius  f32
-//! viewpoints       list of 3 x f32
-//! histogram_edges  list of f32
-//! transitions      list of { has_lowest u8 (0 or 1), lowest f32 if 1,
-//!                            histogram list of u32 }
-//! settings         list of { key string, value string }  (sorted by key)
+//! magic             8 bytes  "ACUITYP\0"
+//! format_version    u32
+//! name              string
+//! lod_triangles     list of u32
+//! bounding_radius   f32
+//! viewpoints        list of 3 x f32
+//! rung_diameters_px list of f32
+//! transitions       list of { feature_count u32,
+//!                             features list of { freq_cdiam f32,
+//!                                                area_diam2 f32,
+//!                                                luminance 2 x f32,
+//!                                                masker 2 x f32 } }
+//! settings          list of { key string, value string }  (sorted by key)
 //! inputs           list of { what string, hash_hex string }
 //! checksum         u64, FNV-1a of every byte before it
 //! ```
@@ -23,7 +26,7 @@
 
 use crate::error::{Error, Result};
 
-use super::{InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFrequencies};
+use super::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 
 /// The first eight bytes of every binary profile.
 pub const MAGIC: [u8; 8] = *b"ACUITYP\0";
@@ -55,22 +58,20 @@ pub fn encode(profile: &Profile) -> Result<Vec<u8>> {
     for v in &profile.viewpoints {
         v.iter().for_each(|&c| put_f32(&mut w, c));
     }
-    put_len(&mut w, profile.histogram_edges_cdiam.len());
-    for &e in &profile.histogram_edges_cdiam {
-        put_f32(&mut w, e);
+    put_len(&mut w, profile.rung_diameters_px.len());
+    for &d in &profile.rung_diameters_px {
+        put_f32(&mut w, d);
     }
     put_len(&mut w, profile.transitions.len());
     for t in &profile.transitions {
-        match t.lowest_cdiam {
-            Some(f) => {
-                w.push(1);
-                put_f32(&mut w, f);
+        put_u32(&mut w, t.feature_count);
+        put_len(&mut w, t.features.len());
+        for f in &t.features {
+            put_f32(&mut w, f.freq_cdiam);
+            put_f32(&mut w, f.area_diam2);
+            for v in f.luminance.into_iter().chain(f.masker) {
+                put_f32(&mut w, v);
             }
-            None => w.push(0),
-        }
-        put_len(&mut w, t.histogram.len());
-        for &c in &t.histogram {
-            put_u32(&mut w, c);
         }
     }
     put_len(&mut w, profile.settings.len());
@@ -135,30 +136,31 @@ pub fn decode(bytes: &[u8]) -> Result<Profile> {
             ])
         })
         .collect::<Result<_>>()?;
-    let n = r.len(4, "histogram_edges_cdiam")?;
-    let histogram_edges_cdiam = (0..n)
-        .map(|_| r.f32("histogram_edges_cdiam"))
+    let n = r.len(4, "rung_diameters_px")?;
+    let rung_diameters_px = (0..n)
+        .map(|_| r.f32("rung_diameters_px"))
         .collect::<Result<_>>()?;
-    let n = r.len(5, "transitions")?;
+    let n = r.len(8, "transitions")?;
     let mut transitions = Vec::with_capacity(n);
     for _ in 0..n {
-        let lowest_cdiam = match r.u8("transitions.has_lowest")? {
-            0 => None,
-            1 => Some(r.f32("transitions.lowest_cdiam")?),
-            other => {
-                return Err(format_error(
-                    r.pos - 1,
-                    &format!("transition flag {other} is neither 0 nor 1"),
-                ));
-            }
-        };
-        let m = r.len(4, "transitions.histogram")?;
-        let histogram = (0..m)
-            .map(|_| r.u32("transitions.histogram"))
+        let feature_count = r.u32("transitions.feature_count")?;
+        let m = r.len(24, "transitions.features")?;
+        let features = (0..m)
+            .map(|_| {
+                let freq_cdiam = r.f32("transitions.features.freq_cdiam")?;
+                let area_diam2 = r.f32("transitions.features.area_diam2")?;
+                let mut pair = |field| Ok::<_, Error>([r.f32(field)?, r.f32(field)?]);
+                Ok(Feature {
+                    freq_cdiam,
+                    area_diam2,
+                    luminance: pair("transitions.features.luminance")?,
+                    masker: pair("transitions.features.masker")?,
+                })
+            })
             .collect::<Result<_>>()?;
-        transitions.push(TransitionFrequencies {
-            lowest_cdiam,
-            histogram,
+        transitions.push(TransitionFeatures {
+            feature_count,
+            features,
         });
     }
     let n = r.len(8, "settings")?;
@@ -189,7 +191,7 @@ pub fn decode(bytes: &[u8]) -> Result<Profile> {
         lod_triangles,
         bounding_radius,
         viewpoints,
-        histogram_edges_cdiam,
+        rung_diameters_px,
         transitions,
         settings,
         inputs,
@@ -242,10 +244,6 @@ impl Reader<'_> {
         let s = &self.bytes[self.pos..self.pos + n];
         self.pos += n;
         Ok(s)
-    }
-
-    fn u8(&mut self, field: &str) -> Result<u8> {
-        Ok(self.take(1, field)?[0])
     }
 
     fn u32(&mut self, field: &str) -> Result<u32> {

@@ -21,10 +21,12 @@ pub fn encode(profile: &Profile) -> Result<Vec<u8>> {
 }
 
 /// Decodes and validates a JSON profile. Syntax errors give the line and
-/// column; type errors also name the field.
+/// column; type errors also name the field. Anything but white space after
+/// the document is an error (a profile with trailing bytes was not written
+/// by [`encode`]).
 pub fn decode(bytes: &[u8]) -> Result<Profile> {
     let de = &mut serde_json::Deserializer::from_slice(bytes);
-    let profile: Profile = serde_path_to_error::deserialize(de).map_err(|e| {
+    let profile: Profile = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let field = e.path().to_string();
         let inner = e.into_inner();
         let reason = if field == "." {
@@ -37,6 +39,11 @@ pub fn decode(bytes: &[u8]) -> Result<Profile> {
             location: format!("line {}, column {}", inner.line(), inner.column()),
             reason,
         }
+    })?;
+    de.end().map_err(|e| Error::ProfileFormat {
+        path: None,
+        location: format!("line {}, column {}", e.line(), e.column()),
+        reason: "unexpected bytes after the profile".into(),
     })?;
     profile.validate()?;
     Ok(profile)
@@ -74,11 +81,22 @@ mod tests {
     #[test]
     fn type_errors_name_field_and_line() {
         let text = String::from_utf8(encode(&sample_profile()).unwrap()).unwrap();
-        let text = text.replacen("\"lowest_cdiam\": 200.1", "\"lowest_cdiam\": \"x\"", 1);
+        let text = text.replacen("\"freq_cdiam\": 200.1", "\"freq_cdiam\": \"x\"", 1);
         let e = decode(text.as_bytes()).unwrap_err().to_string();
         assert!(
-            e.contains("transitions[0].lowest_cdiam") && e.contains("line"),
+            e.contains("transitions[0].features[0].freq_cdiam") && e.contains("line"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn trailing_garbage_is_refused() {
+        let mut bytes = encode(&sample_profile()).unwrap();
+        bytes.extend_from_slice(b"GARBAGE\n");
+        let e = decode(&bytes).unwrap_err().to_string();
+        assert!(e.contains("after the profile"), "{e}");
+        let mut bytes = encode(&sample_profile()).unwrap();
+        bytes.extend_from_slice(b"  \n\t");
+        decode(&bytes).unwrap();
     }
 }

@@ -1,20 +1,29 @@
 //! The profile file: what the offline pass measured for one object, and
 //! what the runtime selects from.
 //!
-//! A profile holds, for every sampled viewpoint and every LOD transition
-//! `i -> i+1`, the unique spatial frequencies of that transition in cycles
-//! per object diameter (c/diam; REFERENCE §1): at least the lowest, plus a
-//! histogram. It also records the analysis settings and the hashes of the
-//! inputs, so an unchanged object is not analysed again.
+//! A profile holds, for every sampled viewpoint, every rung of a ladder of
+//! on-screen sizes and every LOD transition `i -> i+1`, the unique features
+//! of that transition: each with its spatial frequency in cycles per
+//! object diameter (c/diam; REFERENCE §1), the pair of relative linear
+//! luminances it shows in the two renderings (its contrast once a display
+//! is known) and the luminance range it sits on (what masks it). Only the features that can be the most visible are stored
+//! (no other feature is coarser, brighter on its bright side and darker on
+//! its dark side at once). It also records the analysis settings and the
+//! hashes of the inputs, so an unchanged object is not analysed again.
+//!
+//! Nothing in a profile depends on the display: pixels per degree, the
+//! display's luminance and the observer's sensitivity are folded in when
+//! the profile is added to a [`crate::Selector`].
 //!
 //! Two encodings carry the same [`Profile`]:
 //! - JSON (feature `json`), self-describing and diffable;
 //! - a compact little-endian binary form (always available; see
-//!   [`binary`]), about a tenth of the size, guarded by a checksum.
+//!   [`binary`]), guarded by a checksum.
 //!
 //! Both are validated on read and on write: non-finite numbers and
 //! inconsistent counts are refused with the field's path. Writing,
-//! reading and writing again gives identical bytes.
+//! reading and writing again gives identical bytes. A profile of an older
+//! format version is refused with an error that says how to regenerate it.
 
 pub mod binary;
 #[cfg(feature = "json")]
@@ -27,14 +36,17 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 
-/// The format version this build reads and writes.
-pub const PROFILE_FORMAT_VERSION: u32 = 1;
+/// The format version this build reads and writes. Version 1 stored one
+/// lowest frequency per transition, without contrast or on-screen sizes.
+pub const PROFILE_FORMAT_VERSION: u32 = 2;
 /// Most LODs a profile may have (the selection stores LOD indices in a byte).
 pub const MAX_LODS: usize = 64;
 /// Most viewpoints a profile may have.
 pub const MAX_VIEWPOINTS: usize = 65_535;
-/// Most histogram bins a profile may have.
-pub const MAX_HISTOGRAM_BINS: usize = 256;
+/// Most rungs of the size ladder a profile may have.
+pub const MAX_RUNGS: usize = 32;
+/// Most features stored for one transition at one viewpoint and rung.
+pub const MAX_FEATURES: usize = 65_535;
 
 /// Everything the offline pass measured for one object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,29 +64,51 @@ pub struct Profile {
     /// Unit directions from the object's centre towards each analysis
     /// camera, in the object's own frame (right-handed).
     pub viewpoints: Vec<[f32; 3]>,
-    /// Upper edges of the histogram bins in c/diam, ascending; bin `b`
-    /// counts frequencies in `(edges[b-1], edges[b]]`, bin 0 those up to
-    /// `edges[0]`; frequencies above the last edge go into the last bin.
-    pub histogram_edges_cdiam: Vec<f32>,
-    /// One entry per viewpoint and transition, viewpoint-major:
-    /// `transitions[view * (lod_count - 1) + transition]`.
-    pub transitions: Vec<TransitionFrequencies>,
+    /// The size ladder: the bounding sphere's diameter in pixels at each
+    /// rung, ascending, each finite and >= 1.
+    pub rung_diameters_px: Vec<f32>,
+    /// One entry per viewpoint, rung and transition:
+    /// `transitions[(view * rungs + rung) * (lod_count - 1) + transition]`.
+    pub transitions: Vec<TransitionFeatures>,
     /// The analysis settings, as `name -> value` text.
     pub settings: BTreeMap<String, String>,
     /// Content hashes of the inputs, in the order the analysis read them.
     pub inputs: Vec<InputHash>,
 }
 
-/// The unique frequencies of one LOD transition seen from one viewpoint.
+/// The unique features of one LOD transition seen from one viewpoint at one
+/// on-screen size.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct TransitionFrequencies {
-    /// The lowest unique frequency in c/diam (finite, > 0), or `None` when
-    /// the two LODs look the same: then the transition never costs detail.
-    pub lowest_cdiam: Option<f32>,
-    /// Number of unique features per histogram bin
-    /// (`histogram_edges_cdiam.len()` bins).
-    pub histogram: Vec<u32>,
+pub struct TransitionFeatures {
+    /// How many unique features the analysis found (at least
+    /// `features.len()`); 0 when the two LODs look the same, so the
+    /// transition never costs detail.
+    pub feature_count: u32,
+    /// The features that can be the most visible, ascending by frequency
+    /// (see the module docs).
+    pub features: Vec<Feature>,
+}
+
+/// One unique feature of a transition.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Feature {
+    /// Spatial frequency, cycles per object diameter (finite, > 0): half a
+    /// cycle over the feature's width.
+    pub freq_cdiam: f32,
+    /// Area in units of the squared bounding-sphere diameter (finite, in
+    /// `(0, 1]`): with the object's size on screen, the field the CSF
+    /// integrates over.
+    pub area_diam2: f32,
+    /// Relative linear luminance (0 = black, 1 = the display's peak) of the
+    /// feature in the two renderings, lower then higher: its contrast is
+    /// the Michelson contrast of the two on a given display.
+    pub luminance: [f32; 2],
+    /// Relative linear luminance range (lowest, highest) of what the
+    /// feature sits on, in whichever rendering has the smaller: the
+    /// contrast that masks it.
+    pub masker: [f32; 2],
 }
 
 /// A content hash of one analysis input.
@@ -93,15 +127,16 @@ impl Profile {
         self.lod_triangles.len()
     }
 
-    /// Number of transitions per viewpoint (`lod_count - 1`).
+    /// Number of transitions per viewpoint and rung (`lod_count - 1`).
     pub fn transitions_per_view(&self) -> usize {
         self.lod_triangles.len().saturating_sub(1)
     }
 
-    /// The transitions seen from one viewpoint, `0 -> 1` first.
-    pub fn view_transitions(&self, view: usize) -> &[TransitionFrequencies] {
+    /// The transitions seen from one viewpoint at one rung, `0 -> 1` first.
+    pub fn transitions_at(&self, view: usize, rung: usize) -> &[TransitionFeatures] {
         let n = self.transitions_per_view();
-        &self.transitions[view * n..(view + 1) * n]
+        let i = (view * self.rung_diameters_px.len() + rung) * n;
+        &self.transitions[i..i + n]
     }
 
     /// Checks every rule of the format; the error names the field.
@@ -158,54 +193,75 @@ impl Profile {
                 ));
             }
         }
-        let bins = self.histogram_edges_cdiam.len();
-        if bins > MAX_HISTOGRAM_BINS {
+        let rungs = self.rung_diameters_px.len();
+        if rungs == 0 || rungs > MAX_RUNGS {
             return Err(bad(
-                "histogram_edges_cdiam".into(),
-                format!("{bins} bins; at most {MAX_HISTOGRAM_BINS}"),
+                "rung_diameters_px".into(),
+                format!("{rungs} rungs; a profile has 1 to {MAX_RUNGS}"),
             ));
         }
-        for (i, &e) in self.histogram_edges_cdiam.iter().enumerate() {
+        for (i, &d) in self.rung_diameters_px.iter().enumerate() {
             let prev = if i == 0 {
                 0.0
             } else {
-                self.histogram_edges_cdiam[i - 1]
+                self.rung_diameters_px[i - 1]
             };
-            if !(e.is_finite() && e > prev) {
+            if !(d.is_finite() && d >= 1.0 && d > prev) {
                 return Err(bad(
-                    format!("histogram_edges_cdiam[{i}]"),
-                    format!("{e} is not finite and above the previous edge ({prev})"),
+                    format!("rung_diameters_px[{i}]"),
+                    format!("{d} is not a finite diameter >= 1 above the previous rung ({prev})"),
                 ));
             }
         }
-        let expected = views * (lods - 1);
+        let expected = views * rungs * (lods - 1);
         if self.transitions.len() != expected {
             return Err(bad(
                 "transitions".into(),
                 format!(
-                    "{} entries; {views} viewpoints x {} transitions need {expected}",
+                    "{} entries; {views} viewpoints x {rungs} rungs x {} transitions need {expected}",
                     self.transitions.len(),
                     lods - 1
                 ),
             ));
         }
         for (i, t) in self.transitions.iter().enumerate() {
-            if let Some(f) = t.lowest_cdiam
-                && !(f.is_finite() && f > 0.0)
-            {
+            if t.features.len() > MAX_FEATURES || t.features.len() > t.feature_count as usize {
                 return Err(bad(
-                    format!("transitions[{i}].lowest_cdiam"),
-                    format!("{f} is not a finite frequency > 0"),
-                ));
-            }
-            if t.histogram.len() != bins {
-                return Err(bad(
-                    format!("transitions[{i}].histogram"),
+                    format!("transitions[{i}].features"),
                     format!(
-                        "{} bins; histogram_edges_cdiam has {bins}",
-                        t.histogram.len()
+                        "{} features; at most {MAX_FEATURES} and at most feature_count ({})",
+                        t.features.len(),
+                        t.feature_count
                     ),
                 ));
+            }
+            let mut prev = 0.0f32;
+            for (j, f) in t.features.iter().enumerate() {
+                let field = |name: &str| format!("transitions[{i}].features[{j}].{name}");
+                if !(f.freq_cdiam.is_finite() && f.freq_cdiam > 0.0 && f.freq_cdiam >= prev) {
+                    return Err(bad(
+                        field("freq_cdiam"),
+                        format!(
+                            "{} is not a finite frequency > 0 and >= the previous feature's ({prev})",
+                            f.freq_cdiam
+                        ),
+                    ));
+                }
+                prev = f.freq_cdiam;
+                if !(f.area_diam2.is_finite() && f.area_diam2 > 0.0 && f.area_diam2 <= 1.0) {
+                    return Err(bad(
+                        field("area_diam2"),
+                        format!("{} is not an area in (0, 1]", f.area_diam2),
+                    ));
+                }
+                for (name, [lo, hi]) in [("luminance", f.luminance), ("masker", f.masker)] {
+                    if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo <= hi && hi <= 1.0) {
+                        return Err(bad(
+                            field(name),
+                            format!("[{lo}, {hi}] is not a pair 0 <= lower <= higher <= 1"),
+                        ));
+                    }
+                }
             }
         }
         Ok(())
@@ -277,24 +333,11 @@ impl Profile {
     }
 }
 
-/// The default histogram edges in c/diam: octaves from 2 to 2048.
-pub fn default_histogram_edges_cdiam() -> Vec<f32> {
-    (1..=11).map(|i| (1u32 << i) as f32).collect()
-}
-
-/// The histogram bin of a frequency in c/diam for the given upper edges.
-pub fn histogram_bin(edges_cdiam: &[f32], freq_cdiam: f32) -> usize {
-    edges_cdiam
-        .iter()
-        .position(|&e| freq_cdiam <= e)
-        .unwrap_or(edges_cdiam.len().saturating_sub(1))
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
 
-    /// A small valid profile: 4 LODs, 6 viewpoints.
+    /// A small valid profile: 4 LODs, 6 viewpoints, 2 rungs.
     pub(crate) fn sample_profile() -> Profile {
         let viewpoints = vec![
             [1.0, 0.0, 0.0],
@@ -304,23 +347,35 @@ pub(crate) mod tests {
             [0.0, 0.0, 1.0],
             [0.0, 0.0, -1.0],
         ];
-        let edges = default_histogram_edges_cdiam();
+        let rung_diameters_px = vec![32.0, 64.0];
         let mut transitions = Vec::new();
         for v in 0..6 {
-            for t in 0..3 {
-                let lowest = if v == 5 && t == 1 {
-                    None
-                } else {
-                    Some(200.0 / (1 + t) as f32 + v as f32 * 1.5 + 0.1)
-                };
-                let mut histogram = vec![0; edges.len()];
-                if let Some(f) = lowest {
-                    histogram[histogram_bin(&edges, f)] = 3 + t as u32;
+            for rung in 0..2 {
+                for t in 0..3 {
+                    let features = if v == 5 && t == 1 {
+                        vec![]
+                    } else {
+                        let f = 200.0 / (1 + t) as f32 + v as f32 * 1.5 + rung as f32 + 0.1;
+                        vec![
+                            Feature {
+                                freq_cdiam: f,
+                                area_diam2: 0.01,
+                                luminance: [0.1, 0.12],
+                                masker: [0.1, 0.12],
+                            },
+                            Feature {
+                                freq_cdiam: 2.0 * f,
+                                area_diam2: 0.002,
+                                luminance: [0.0, 0.5],
+                                masker: [0.0, 0.9],
+                            },
+                        ]
+                    };
+                    transitions.push(TransitionFeatures {
+                        feature_count: 3 * features.len() as u32,
+                        features,
+                    });
                 }
-                transitions.push(TransitionFrequencies {
-                    lowest_cdiam: lowest,
-                    histogram,
-                });
             }
         }
         Profile {
@@ -329,7 +384,7 @@ pub(crate) mod tests {
             lod_triangles: vec![3928, 834, 254, 76],
             bounding_radius: 1.0,
             viewpoints,
-            histogram_edges_cdiam: edges,
+            rung_diameters_px,
             transitions,
             settings: [("resolution_px".to_owned(), "512".to_owned())].into(),
             inputs: vec![InputHash {
@@ -346,37 +401,45 @@ pub(crate) mod tests {
 
     #[test]
     fn rules_name_the_field() {
+        let field_of = |p: Profile| p.validate().unwrap_err().to_string();
         let mut p = sample_profile();
-        p.transitions[4].lowest_cdiam = Some(f32::NAN);
-        let e = p.validate().unwrap_err().to_string();
-        assert!(e.contains("transitions[4].lowest_cdiam"), "{e}");
+        p.transitions[4].features[0].freq_cdiam = f32::NAN;
+        let e = field_of(p);
+        assert!(e.contains("transitions[4].features[0].freq_cdiam"), "{e}");
+
+        let mut p = sample_profile();
+        p.transitions[4].features[1].luminance = [0.6, 0.5];
+        let e = field_of(p);
+        assert!(e.contains("transitions[4].features[1].luminance"), "{e}");
+
+        let mut p = sample_profile();
+        p.transitions[4].features[1].masker = [0.2, 1.5];
+        let e = field_of(p);
+        assert!(e.contains("transitions[4].features[1].masker"), "{e}");
+
+        let mut p = sample_profile();
+        p.transitions[2].features.swap(0, 1);
+        assert!(field_of(p).contains("transitions[2].features[1].freq_cdiam"));
+
+        let mut p = sample_profile();
+        p.transitions[2].feature_count = 1;
+        assert!(field_of(p).contains("transitions[2].features"));
 
         let mut p = sample_profile();
         p.lod_triangles[2] = 900;
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .contains("lod_triangles[2]")
-        );
+        assert!(field_of(p).contains("lod_triangles[2]"));
 
         let mut p = sample_profile();
         p.viewpoints[3] = [0.0, 0.0, 0.0];
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .contains("viewpoints[3]")
-        );
+        assert!(field_of(p).contains("viewpoints[3]"));
+
+        let mut p = sample_profile();
+        p.rung_diameters_px = vec![64.0, 32.0];
+        assert!(field_of(p).contains("rung_diameters_px[1]"));
 
         let mut p = sample_profile();
         p.transitions.pop();
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .contains("transitions")
-        );
+        assert!(field_of(p).contains("transitions"));
 
         let mut p = sample_profile();
         p.format_version = 9;
@@ -387,11 +450,21 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn histogram_bins_cover_every_frequency() {
-        let edges = default_histogram_edges_cdiam();
-        assert_eq!(histogram_bin(&edges, 0.5), 0);
-        assert_eq!(histogram_bin(&edges, 2.0), 0);
-        assert_eq!(histogram_bin(&edges, 2.5), 1);
-        assert_eq!(histogram_bin(&edges, 1e9), edges.len() - 1);
+    fn an_old_profile_says_how_to_regenerate_it() {
+        let mut p = sample_profile();
+        p.format_version = 1;
+        let e = p.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("version 1") && e.contains("acuity preprocess"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn transitions_are_indexed_by_view_then_rung() {
+        let p = sample_profile();
+        let t = p.transitions_at(4, 1);
+        assert_eq!(t.len(), 3);
+        assert_eq!(t[0], p.transitions[(4 * 2 + 1) * 3]);
     }
 }

@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
-use acuity_preprocess::render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer};
+use acuity_preprocess::render::{
+    Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
+};
 use anyhow::Context;
 use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 
@@ -84,6 +86,14 @@ pub struct ProfileArgs {
     /// [default: the scene's `[profiles]`, else 512].
     #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub profile_resolution: Option<u32>,
+    /// Smallest rung of the size ladder of profiles that must be made,
+    /// pixels [default: the scene's `[profiles]`, else 16].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=8192))]
+    pub profile_min_diameter: Option<u32>,
+    /// MSAA samples of the analysis and of the rendered frames (1: none)
+    /// [default: the scene's `[profiles]`, else 4].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub msaa: Option<u32>,
     /// View-sphere level of profiles that must be made (0: 6 viewpoints,
     /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
@@ -108,6 +118,8 @@ impl ProfileArgs {
     pub fn spec(&self) -> ProfileSpec {
         ProfileSpec {
             resolution_px: self.profile_resolution,
+            min_diameter_px: self.profile_min_diameter,
+            msaa_samples: self.msaa,
             viewpoint_level: self.profile_viewpoints,
             statistic: self.profile_statistic,
             threshold_delta_e: self.profile_threshold,
@@ -189,7 +201,11 @@ impl World {
     /// every profile (cached under `options.cache_dir`). Errors name the
     /// object at fault.
     pub fn load(scene: Scene, options: &LoadOptions) -> anyhow::Result<World> {
-        let renderer = Renderer::new(&Default::default()).context("starting the renderer")?;
+        // Frames are drawn as the profiles were analysed (anti-aliasing).
+        let renderer = Renderer::new(&RendererOptions {
+            msaa_samples: options.settings.msaa_samples,
+        })
+        .context("starting the renderer")?;
         Self::load_with(scene, renderer, options)
     }
 
@@ -209,6 +225,7 @@ impl World {
         let [w, h] = scene.display.resolution_px;
         let [fh, fv] = scene.display.fov_deg;
         let display = Display::new([w, h], [fh as f32, fv as f32])
+            .and_then(|d| d.with_photometry(scene.display.photometry()?))
             .with_context(|| format!("{}: display", scene.source_path.display()))?;
         let started = Instant::now();
         let mut objects = Vec::with_capacity(scene.objects.len());

@@ -73,6 +73,7 @@ impl PolicyRunner {
     ) -> anyhow::Result<PolicyRunner> {
         let settings = SelectorSettings {
             components: components(policy).unwrap_or(Components::ALL),
+            observer: world.scene.observer,
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);

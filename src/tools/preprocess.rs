@@ -45,7 +45,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::profiles;
 use super::scene::{MeshSource, ProceduralKind, ProfileSpec, Scene};
-use crate::Profile;
+use crate::rows::{FieldCsfs, transition_critical_cdiam};
+use crate::{Observer, Photometry, Profile, csf::Csf};
 
 /// Seed of the procedural generator for scene objects of kind `rock` (the
 /// scene format has no seed for the shape; this one is fixed so profiles
@@ -70,6 +71,14 @@ pub struct PreprocessArgs {
     /// `[profiles]`, else 512].
     #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub resolution: Option<u32>,
+    /// Smallest rung of the size ladder, pixels: rungs halve from
+    /// `--resolution` down to it [default: the scene's `[profiles]`, else
+    /// 16].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=8192))]
+    pub min_diameter: Option<u32>,
+    /// MSAA samples (1: none) [default: the scene's `[profiles]`, else 4].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub msaa: Option<u32>,
     /// View-sphere subdivision level: 0 -> 6 viewpoints, 1 -> 18, 2 -> 66,
     /// 3 -> 258, ... (0..=6) [default: a scene's `[profiles]`, else 1].
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
@@ -278,6 +287,8 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
     let (jobs, default_out, scene_spec) = jobs_for(args)?;
     let flags = ProfileSpec {
         resolution_px: args.resolution,
+        min_diameter_px: args.min_diameter,
+        msaa_samples: args.msaa,
         viewpoint_level: args.viewpoints,
         threshold_delta_e: args.threshold,
         statistic: args.statistic,
@@ -359,7 +370,8 @@ fn process(
         }
     }
 
-    let views_per_object = views::viewpoint_count(settings.viewpoint_level);
+    let views_per_object =
+        views::viewpoint_count(settings.viewpoint_level) * settings.diameters_px().len();
     let bar = progress_bar((to_analyse.len() * views_per_object) as u64);
     let shown = AtomicBool::new(false);
     let tty = std::io::stderr().is_terminal();
@@ -400,7 +412,10 @@ fn process(
         let t0 = Instant::now();
         bar.set_message(j.name.clone());
         let r = renderer.get_or_insert_with(|| {
-            let r = Renderer::new(&RendererOptions::default()).map_err(|e| e.to_string());
+            let r = Renderer::new(&RendererOptions {
+                msaa_samples: settings.msaa_samples,
+            })
+            .map_err(|e| e.to_string());
             if let Ok(r) = &r {
                 bar.suspend(|| eprintln!("renderer: {}", r.adapter_info()));
             }
@@ -477,15 +492,29 @@ fn progress_bar(total: u64) -> ProgressBar {
     bar
 }
 
-/// Median over viewpoints of each transition's lowest unique frequency,
-/// c/diam; a viewpoint without unique features counts as infinite.
-pub fn median_lowest_cdiam(profile: &Profile) -> Vec<f32> {
-    let nt = profile.transitions_per_view();
-    (0..nt)
+/// Median over viewpoints of each transition's critical frequency at the
+/// largest rung of the size ladder, c/diam ([`transition_critical_cdiam`]
+/// under the default display photometry and observer, on a display of 30
+/// pixels per degree): the transition is
+/// invisible on an object of `theta` deg at rest in the fovea while this
+/// exceeds `60 theta` (a viewpoint without visible features counts as
+/// infinite).
+pub fn median_critical_cdiam(profile: &Profile) -> Vec<f32> {
+    let photometry = Photometry::default();
+    let Ok(csf) = Csf::new(&photometry, &Observer::default()) else {
+        return Vec::new();
+    };
+    let mut csfs = FieldCsfs::new(&csf);
+    let top = profile.rung_diameters_px.len().saturating_sub(1);
+    // The largest rung on a desktop display of 30 pixels per degree.
+    let diameter_deg = profile.rung_diameters_px.get(top).map_or(1.0, |d| d / 30.0);
+    (0..profile.transitions_per_view())
         .map(|t| {
             let mut v: Vec<f32> = (0..profile.viewpoints.len())
-                .map(|view| profile.view_transitions(view)[t].lowest_cdiam)
-                .map(|f| f.unwrap_or(f32::INFINITY))
+                .map(|view| {
+                    let features = &profile.transitions_at(view, top)[t].features;
+                    transition_critical_cdiam(features, diameter_deg, &photometry, &mut csfs)
+                })
                 .collect();
             v.sort_by(f32::total_cmp);
             match v.len() {
@@ -502,7 +531,7 @@ fn table(rows: &[Row]) -> String {
         "object",
         "LODs (triangles)",
         "viewpoints",
-        "lowest c/diam per transition (median)",
+        "critical c/diam per transition (median)",
         "result",
         "s",
     ];
@@ -525,7 +554,7 @@ fn table(rows: &[Row]) -> String {
             });
             let views = profile.map_or_else(dash, |p| p.viewpoints.len().to_string());
             let freqs = profile.map_or_else(dash, |p| {
-                median_lowest_cdiam(p)
+                median_critical_cdiam(p)
                     .iter()
                     .map(|f| {
                         if f.is_finite() {

@@ -8,10 +8,7 @@ use acuity_preprocess::pipeline::{
 };
 use acuity_preprocess::render::Renderer;
 
-use crate::profile::{
-    InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFrequencies,
-    default_histogram_edges_cdiam, histogram_bin,
-};
+use crate::profile::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 
 /// Where a profile came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,6 +23,7 @@ pub enum CacheOutcome {
 pub fn settings_record(settings: &AnalysisSettings) -> std::collections::BTreeMap<String, String> {
     [
         ("resolution_px", settings.resolution_px.to_string()),
+        ("min_diameter_px", settings.min_diameter_px.to_string()),
         ("viewpoint_level", settings.viewpoint_level.to_string()),
         ("threshold_delta_e", settings.threshold_delta_e.to_string()),
         ("feret_directions", settings.feret_directions.to_string()),
@@ -39,25 +37,33 @@ pub fn settings_record(settings: &AnalysisSettings) -> std::collections::BTreeMa
     .collect()
 }
 
-/// Converts an analysis into a runtime profile (frequencies in c/diam,
-/// histogram over [`default_histogram_edges_cdiam`]).
+/// Converts an analysis into a runtime profile (the same features, the
+/// ladder's diameters as `f32`).
 pub fn profile_from_analysis(analysis: &ObjectAnalysis, settings: &AnalysisSettings) -> Profile {
-    let edges = default_histogram_edges_cdiam();
     Profile {
         format_version: PROFILE_FORMAT_VERSION,
         name: analysis.name.clone(),
         lod_triangles: analysis.lod_triangles.clone(),
         bounding_radius: analysis.bounding_sphere.1,
         viewpoints: analysis.viewpoints.clone(),
+        rung_diameters_px: analysis.diameters_px.iter().map(|&d| d as f32).collect(),
         transitions: analysis
             .transitions
             .iter()
-            .map(|t| TransitionFrequencies {
-                lowest_cdiam: t.lowest_cdiam,
-                histogram: histogram(&t.frequencies_cdiam, &edges),
+            .map(|t| TransitionFeatures {
+                feature_count: t.feature_count,
+                features: t
+                    .features
+                    .iter()
+                    .map(|f| Feature {
+                        freq_cdiam: f.freq_cdiam,
+                        area_diam2: f.area_diam2,
+                        luminance: f.luminance,
+                        masker: f.masker,
+                    })
+                    .collect(),
             })
             .collect(),
-        histogram_edges_cdiam: edges,
         settings: settings_record(settings),
         inputs: analysis
             .input_hashes
@@ -68,18 +74,6 @@ pub fn profile_from_analysis(analysis: &ObjectAnalysis, settings: &AnalysisSetti
             })
             .collect(),
     }
-}
-
-/// Counts `frequencies_cdiam` per bin of the profile's histogram (upper
-/// edges; see [`Profile::histogram_edges_cdiam`]).
-fn histogram(frequencies_cdiam: &[f32], edges: &[f32]) -> Vec<u32> {
-    let mut counts = vec![0u32; edges.len()];
-    for &f in frequencies_cdiam {
-        if let Some(c) = counts.get_mut(histogram_bin(edges, f)) {
-            *c += 1;
-        }
-    }
-    counts
 }
 
 /// The cache file of an object: `<cache_dir>/<name>.acp` (binary profile).
@@ -159,33 +153,45 @@ pub fn ensure_profile(
 
 #[cfg(test)]
 mod tests {
-    use acuity_preprocess::pipeline::TransitionAnalysis;
+    use acuity_preprocess::pipeline::{FeatureRecord, TransitionAnalysis};
 
     use super::*;
 
     #[test]
-    fn analysis_becomes_a_valid_profile_with_every_feature_counted() {
-        let t = |f: &[f32]| TransitionAnalysis {
-            lowest_cdiam: f.first().copied(),
-            frequencies_cdiam: f.to_vec(),
+    fn analysis_becomes_a_valid_profile_with_every_feature() {
+        let t = |f: &[(f32, [f32; 2])]| TransitionAnalysis {
+            feature_count: 2 * f.len() as u32,
+            features: f
+                .iter()
+                .map(|&(freq_cdiam, luminance)| FeatureRecord {
+                    freq_cdiam,
+                    area_diam2: 0.01,
+                    luminance,
+                    masker: luminance,
+                })
+                .collect(),
         };
         let analysis = ObjectAnalysis {
             name: "x".into(),
             lod_triangles: vec![100, 40, 10],
             bounding_sphere: ([0.0; 3], 1.5),
             viewpoints: vec![[0.0, 0.0, 1.0]],
-            // Below the first edge, on an edge, between edges, above the last.
-            transitions: vec![t(&[0.5, 2.0, 3.0, 5000.0]), t(&[])],
+            diameters_px: vec![16, 32],
+            transitions: vec![
+                t(&[(0.5, [0.0, 0.5]), (3.0, [0.1, 0.9])]),
+                t(&[]),
+                t(&[(8.0, [0.2, 0.3])]),
+                t(&[]),
+            ],
             input_hashes: vec![],
             warnings: vec![],
         };
         let p = profile_from_analysis(&analysis, &AnalysisSettings::default());
         p.validate().unwrap();
-        assert_eq!(p.transitions[0].histogram.iter().sum::<u32>(), 4);
-        assert_eq!(p.transitions[0].histogram[0], 2);
-        assert_eq!(p.transitions[0].histogram[1], 1);
-        assert_eq!(*p.transitions[0].histogram.last().unwrap(), 1);
-        assert_eq!(p.transitions[1].lowest_cdiam, None);
-        assert!(p.transitions[1].histogram.iter().all(|&c| c == 0));
+        assert_eq!(p.rung_diameters_px, [16.0, 32.0]);
+        assert_eq!(p.transitions[0].feature_count, 4);
+        assert_eq!(p.transitions[0].features[1].luminance, [0.1, 0.9]);
+        assert_eq!(p.transitions_at(0, 1)[0].features[0].freq_cdiam, 8.0);
+        assert!(p.transitions[1].features.is_empty());
     }
 }

@@ -46,10 +46,12 @@
 //! flip_every_n_frames = 10
 //!
 //! [profiles]                         # optional; how the offline pass analyses
-//! resolution = 512                   # pixels per side of each view
+//! resolution = 512                   # the size ladder's largest rung, pixels
+//! min_diameter = 16                  # its smallest rung (rungs halve from `resolution`)
 //! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
-//! statistic = "longest"              # "longest" | "mean" | "shortest" | "thickness"
-//! threshold_delta_e = 2.3            # just-noticeable ΔE*uv
+//! statistic = "thickness"            # "thickness" | "longest" | "mean" | "shortest"
+//! threshold_delta_e = 2.3            # just-noticeable ΔE*uv of region growing
+//! msaa_samples = 4                   # anti-aliasing of the analysis and of `run`'s frames
 //! ```
 //!
 //! `[profiles]` records how an asset library's profiles are made, so every
@@ -197,14 +199,22 @@ pub struct Scene {
     pub run: RunSpec,
     /// How the scene's profiles are made.
     pub profiles: ProfileSpec,
+    /// The viewer's contrast sensitivity calibration (`[observer]`).
+    pub observer: crate::Observer,
 }
 
 /// How profiles are made (`[profiles]`, or the matching command-line flags);
 /// `None` leaves a setting at the offline pass's default.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ProfileSpec {
-    /// Side of each rendered view, pixels (16..=8192).
+    /// Side of each rendered view at the size ladder's largest rung,
+    /// pixels (16..=8192).
     pub resolution_px: Option<u32>,
+    /// The size ladder's smallest rung, pixels (4..=`resolution_px`).
+    pub min_diameter_px: Option<u32>,
+    /// MSAA samples of the analysis and of the scene's frames (1 or what
+    /// the adapter supports, usually 4).
+    pub msaa_samples: Option<u32>,
     /// View-sphere level (0..=6; 0 = 6 viewpoints, 1 = 18, 2 = 66).
     pub viewpoint_level: Option<u32>,
     /// Feature-size statistic.
@@ -218,6 +228,8 @@ impl ProfileSpec {
     pub fn overridden_by(self, over: ProfileSpec) -> ProfileSpec {
         ProfileSpec {
             resolution_px: over.resolution_px.or(self.resolution_px),
+            min_diameter_px: over.min_diameter_px.or(self.min_diameter_px),
+            msaa_samples: over.msaa_samples.or(self.msaa_samples),
             viewpoint_level: over.viewpoint_level.or(self.viewpoint_level),
             statistic: over.statistic.or(self.statistic),
             threshold_delta_e: over.threshold_delta_e.or(self.threshold_delta_e),
@@ -229,6 +241,13 @@ impl ProfileSpec {
         let d = AnalysisSettings::default();
         AnalysisSettings {
             resolution_px: self.resolution_px.unwrap_or(d.resolution_px),
+            // The default smallest rung, not an explicit one, shrinks to fit
+            // a small largest rung.
+            min_diameter_px: self.min_diameter_px.unwrap_or(
+                d.min_diameter_px
+                    .min(self.resolution_px.unwrap_or(d.resolution_px)),
+            ),
+            msaa_samples: self.msaa_samples.unwrap_or(d.msaa_samples),
             viewpoint_level: self.viewpoint_level.unwrap_or(d.viewpoint_level),
             statistic: self.statistic.unwrap_or(d.statistic),
             threshold_delta_e: self.threshold_delta_e.unwrap_or(d.threshold_delta_e),
@@ -247,9 +266,25 @@ pub struct DisplaySpec {
     pub fov_deg: [f64; 2],
     /// The physical screen, when the file gave one.
     pub physical: Option<PhysicalScreen>,
+    /// Luminance of peak white, cd/m² (default 200: an office monitor).
+    pub peak_luminance_cd_m2: f64,
+    /// Contrast ratio of the panel, peak over black (default 1000).
+    pub contrast_ratio: f64,
+    /// Ambient light on the screen, lux (default 250: an office).
+    pub ambient_lux: f64,
 }
 
 impl DisplaySpec {
+    /// The display's photometry ([`crate::Photometry::from_display`] of
+    /// its peak luminance, contrast ratio and ambient light).
+    pub fn photometry(&self) -> crate::Result<crate::Photometry> {
+        crate::Photometry::from_display(
+            self.peak_luminance_cd_m2 as f32,
+            self.contrast_ratio as f32,
+            self.ambient_lux as f32,
+        )
+    }
+
     /// Pixels per degree along the axis with the most (the display limit of
     /// REFERENCE §2 is half this, in c/deg): `max(w / fov_h, h / fov_v)`.
     pub fn pixels_per_deg(&self) -> f64 {
@@ -514,6 +549,8 @@ struct RawScene {
     run: Option<RawRun>,
     #[serde(default)]
     profiles: Option<RawProfiles>,
+    #[serde(default)]
+    observer: Option<RawObserver>,
 }
 
 #[derive(Deserialize)]
@@ -523,6 +560,16 @@ struct RawDisplay {
     fov_deg: Option<[f64; 2]>,
     screen_cm: Option<[f64; 2]>,
     distance_cm: Option<f64>,
+    peak_luminance_cd_m2: Option<f64>,
+    contrast_ratio: Option<f64>,
+    ambient_lux: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawObserver {
+    sensitivity: Option<f32>,
+    masking: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -664,6 +711,8 @@ struct RawRun {
 #[serde(deny_unknown_fields)]
 struct RawProfiles {
     resolution: Option<u32>,
+    min_diameter: Option<u32>,
+    msaa_samples: Option<u32>,
     viewpoints: Option<u32>,
     statistic: Option<String>,
     threshold_delta_e: Option<f32>,
@@ -787,6 +836,7 @@ impl<'t> Ctx<'t> {
         let gaze = self.gaze(raw.gaze.unwrap_or_default(), &objects)?;
         let run = self.run(raw.run.unwrap_or_default(), camera.duration_s)?;
         let profiles = self.profiles(raw.profiles.unwrap_or_default())?;
+        let observer = self.observer(raw.observer.unwrap_or_default())?;
         Ok(Scene {
             source_path: self.path.clone(),
             display,
@@ -795,7 +845,23 @@ impl<'t> Ctx<'t> {
             gaze,
             run,
             profiles,
+            observer,
         })
+    }
+
+    fn observer(&self, o: RawObserver) -> Res<crate::Observer> {
+        let d = crate::Observer::default();
+        let observer = crate::Observer {
+            sensitivity: o.sensitivity.unwrap_or(d.sensitivity),
+            masking: o.masking.unwrap_or(d.masking),
+        };
+        match observer.validate() {
+            Err(crate::Error::InvalidParameter { name, reason }) => {
+                Err(self.invalid(format!("observer.{name}"), reason))
+            }
+            Err(e) => Err(self.invalid("observer", e.to_string())),
+            Ok(()) => Ok(observer),
+        }
     }
 
     fn profiles(&self, p: RawProfiles) -> Res<ProfileSpec> {
@@ -806,6 +872,8 @@ impl<'t> Ctx<'t> {
             .map_err(|reason| self.invalid("profiles.statistic", reason))?;
         let spec = ProfileSpec {
             resolution_px: p.resolution,
+            min_diameter_px: p.min_diameter,
+            msaa_samples: p.msaa_samples,
             viewpoint_level: p.viewpoints,
             statistic,
             threshold_delta_e: p.threshold_delta_e,
@@ -816,6 +884,7 @@ impl<'t> Ctx<'t> {
             Err(acuity_preprocess::Error::Settings { field, message }) => {
                 let key = match field {
                     "resolution_px" => "resolution",
+                    "min_diameter_px" => "min_diameter",
                     "viewpoint_level" => "viewpoints",
                     other => other,
                 };
@@ -891,11 +960,25 @@ impl<'t> Ctx<'t> {
                 ));
             }
         }
-        Ok(DisplaySpec {
+        let spec = DisplaySpec {
             resolution_px: d.resolution,
             fov_deg,
             physical,
-        })
+            peak_luminance_cd_m2: d.peak_luminance_cd_m2.unwrap_or(200.0),
+            contrast_ratio: d.contrast_ratio.unwrap_or(1000.0),
+            ambient_lux: d.ambient_lux.unwrap_or(250.0),
+        };
+        match spec.photometry() {
+            Err(crate::Error::InvalidParameter { name, reason }) => {
+                let key = match name {
+                    "peak_cd_m2" => "peak_luminance_cd_m2",
+                    other => other,
+                };
+                Err(self.invalid(format!("display.{key}"), reason))
+            }
+            Err(e) => Err(self.invalid("display", e.to_string())),
+            Ok(_) => Ok(spec),
+        }
     }
 
     fn object(&self, i: usize, o: RawObject) -> Res<ObjectSpec> {

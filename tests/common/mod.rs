@@ -1,7 +1,7 @@
 //! Shared test fixtures: a seeded generator and synthetic profiles.
 #![allow(dead_code)]
 
-use acuity::profile::{PROFILE_FORMAT_VERSION, Profile, TransitionFrequencies};
+use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 use glam::{DVec3, Quat, Vec3};
 
 /// SplitMix64: small, seeded, repeatable.
@@ -65,24 +65,48 @@ pub fn eighteen_viewpoints() -> Vec<[f32; 3]> {
     dirs.iter().map(|d| d.to_array()).collect()
 }
 
+/// The size ladder of the synthetic profiles (the offline pass's default).
+pub const RUNGS_PX: [f32; 6] = [16.0, 32.0, 64.0, 128.0, 256.0, 512.0];
+
 /// A 4-LOD profile (the paper's 3928/834/254/76 triangles) over 18
-/// viewpoints whose transitions remove coarser features as LODs coarsen,
-/// with per-viewpoint variation; some transitions have no unique feature.
+/// viewpoints and the default size ladder whose transitions remove coarser
+/// features as LODs coarsen (one full-contrast and one faint feature
+/// each), with per-viewpoint variation; some transitions have no unique
+/// feature.
 pub fn four_lod_profile(seed: u64) -> Profile {
     let mut rng = Rng(seed);
     let viewpoints = eighteen_viewpoints();
     let mut transitions = Vec::new();
     for _ in &viewpoints {
-        for t in 0..3 {
-            let lowest = if rng.unit() < 0.05 {
-                None
-            } else {
-                Some((240.0 / (1 << (2 * t)) as f64 * rng.range(0.6, 1.6)) as f32)
-            };
-            transitions.push(TransitionFrequencies {
-                lowest_cdiam: lowest,
-                histogram: vec![],
-            });
+        for _ in RUNGS_PX {
+            for t in 0..3 {
+                let features = if rng.unit() < 0.05 {
+                    vec![]
+                } else {
+                    let f = (240.0 / (1 << (2 * t)) as f64 * rng.range(0.6, 1.6)) as f32;
+                    vec![
+                        Feature {
+                            freq_cdiam: f,
+                            area_diam2: 0.002,
+                            luminance: [0.0, 0.5],
+                            masker: [0.0, 0.5],
+                        },
+                        Feature {
+                            freq_cdiam: 0.5 * f,
+                            area_diam2: 0.02,
+                            luminance: [0.4, 0.42],
+                            masker: [0.4, 0.42],
+                        },
+                    ]
+                    .into_iter()
+                    .rev()
+                    .collect()
+                };
+                transitions.push(TransitionFeatures {
+                    feature_count: features.len() as u32,
+                    features,
+                });
+            }
         }
     }
     Profile {
@@ -91,7 +115,7 @@ pub fn four_lod_profile(seed: u64) -> Profile {
         lod_triangles: vec![3928, 834, 254, 76],
         bounding_radius: 1.0,
         viewpoints,
-        histogram_edges_cdiam: vec![],
+        rung_diameters_px: RUNGS_PX.to_vec(),
         transitions,
         settings: Default::default(),
         inputs: vec![],
@@ -106,7 +130,7 @@ pub fn single_lod_profile() -> Profile {
         lod_triangles: vec![500],
         bounding_radius: 1.0,
         viewpoints: vec![[0.0, 0.0, 1.0]],
-        histogram_edges_cdiam: vec![],
+        rung_diameters_px: vec![512.0],
         transitions: vec![],
         settings: Default::default(),
         inputs: vec![],

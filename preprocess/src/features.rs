@@ -1,0 +1,432 @@
+//! The unique features of an LOD transition, with their size and their
+//! contrast (Reddy 1998 §3.3; REFERENCE §5.3–5.6).
+//!
+//! # Decisions
+//! - **Unique features** are where the two renderings differ (any
+//!   difference at all: renderings are deterministic, so an unchanged pixel
+//!   has identical bytes), grouped into coherent changes. Two 8-connected
+//!   changed pixels (a silhouette that moved diagonally by one pixel stays
+//!   one feature) belong to one feature when the change brightens both or
+//!   darkens both ([`Grouping::ChangeSign`], the default). A silhouette or
+//!   a hole whose edge moved is one feature, even where the surface's
+//!   colour varies quickly along it; a network of small shading changes
+//!   that alternate between lighter and darker is many small features,
+//!   not one as large as the object; and a feature's mean contrast never
+//!   averages a brightening against a darkening.
+//! - **Reddy's regions** ([`Grouping::Regions`]): each LOD's rendering is
+//!   segmented by CIELUV region growing ([`crate::segment::grow_regions`]:
+//!   neighbours closer than the just-noticeable ΔE*uv form one region, an
+//!   area seen as one patch), and changed pixels join only when they also
+//!   lie in one region of either rendering: a feature is the part of a
+//!   region of one LOD with no counterpart in the other. Measured against
+//!   FovVideoVDP on `scenes/reddy1998.toml` it ranks LOD choices worse: on
+//!   an object 16 to 64 pixels across with vertex colours, neighbouring
+//!   pixels differ by more than the just-noticeable difference almost
+//!   everywhere, so regions are single pixels and every change breaks
+//!   into one-pixel features that read as finer than they are.
+//! - **Size**: the feature's length under a [`FrequencyStatistic`]
+//!   ([`crate::frequency`]; by default its thickness, the width across it:
+//!   a thin ring is as fine as its width), giving `1 / (2 L)` c/pixel.
+//! - **Luminance contrast** is Michelson contrast between the feature's
+//!   mean *linear* relative luminance `Y` (CIE Y of the sRGB pixels, 0 to 1)
+//!   in the two renderings: what the feature shows against what replaces it
+//!   (its surround once it is gone; for a silhouette, the background it was
+//!   rendered on). It is kept as the pair `[lower, higher]` of the two
+//!   luminances, not as a ratio, so that the display's black level can be
+//!   folded in at run time (profiles are display-independent).
+//! - **Chromatic term**: the difference of the mean `u*, v*` is converted to
+//!   the Michelson contrast of a lightness change of the same size in
+//!   CIELUV (`ΔL* ≈ (2/3)(L* + 16) c` for a small contrast `c`, so
+//!   `c_chroma = 3 Δuv / (2 (L̄* + 16))`). When it is the larger, the
+//!   feature's luminance pair is replaced by the pair with the same mean
+//!   and that contrast. CIELUV counts a chromatic step as visible as an
+//!   equal lightness step for large fields, and chromatic sensitivity falls
+//!   off at lower frequencies than luminance sensitivity, so judging it
+//!   with the luminance CSF is conservative.
+//! - **Masker**: a change is harder to see on top of strong contrast (a
+//!   sliver along a silhouette is masked by the silhouette itself). The
+//!   masker of a feature is the luminance range (lowest and highest `Y`)
+//!   over its pixels and their 8 neighbours, in whichever rendering has
+//!   the smaller range (mutual masking: the masker is what both images
+//!   share). The run time turns it into a threshold elevation
+//!   (`acuity::csf`).
+//! - **Area**: the feature's pixel count. Larger features are more visible
+//!   (spatial summation; the run time uses it as the CSF's field size).
+//! - **What is kept**: a feature is at least as visible as another on any
+//!   display when it is no finer, its higher luminance no lower, its lower
+//!   luminance no higher (Michelson contrast with any black level grows
+//!   with the higher and falls with the lower luminance), its masker's
+//!   range lies within the other's (no more masking) and it is no smaller. Only the features no
+//!   other feature dominates that way (the Pareto set, [`most_visible`])
+//!   can decide a transition, so only they are stored.
+
+use crate::Error;
+use crate::frequency::{self, FrequencyStatistic};
+use crate::segment::{LuvImage, Regions, grow_regions, label_components};
+
+/// How changed pixels are grouped into features (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Grouping {
+    /// Neighbours whose change has the same sign (both lighter or both
+    /// darker). The default.
+    #[default]
+    ChangeSign,
+    /// As `ChangeSign`, and only within one CIELUV region of either
+    /// rendering (Reddy's feature extraction).
+    Regions,
+}
+
+/// How unique features are found and measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeatureSettings {
+    /// How changed pixels are grouped.
+    pub grouping: Grouping,
+    /// ΔE*uv just-noticeable difference of region growing (> 0; used by
+    /// [`Grouping::Regions`]).
+    pub threshold_delta_e: f32,
+    /// Number of Feret directions K (>= 1).
+    pub feret_directions: u32,
+    /// How a feature's size becomes one length.
+    pub statistic: FrequencyStatistic,
+}
+
+/// One unique feature of a transition.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UniqueFeature {
+    /// Its shape: pixel count, Feret extents, thickness.
+    pub shape: frequency::Feature,
+    /// Its frequency `1 / (2 L)` in cycles per pixel (at most 0.5).
+    pub freq_cpx: f32,
+    /// Mean relative linear luminance in the finer and the coarser LOD's
+    /// rendering.
+    pub luminance_finer: f32,
+    /// See [`UniqueFeature::luminance_finer`].
+    pub luminance_coarser: f32,
+    /// Michelson contrast of the two mean luminances (0 to 1).
+    pub luminance_contrast: f32,
+    /// Michelson contrast equivalent of the chromatic difference (see the
+    /// module docs).
+    pub chromatic_contrast: f32,
+    /// The luminance pair `[lower, higher]` the feature is judged by: the
+    /// two mean luminances, or, when the chromatic term is larger, the
+    /// pair with their mean and the chromatic contrast.
+    pub luminance: [f32; 2],
+    /// The masker's luminance range `[lowest, highest]` (see the module
+    /// docs).
+    pub masker: [f32; 2],
+}
+
+impl UniqueFeature {
+    /// The contrast the feature is judged by: Michelson contrast of
+    /// [`UniqueFeature::luminance`] on a display with a zero black level.
+    pub fn contrast(&self) -> f32 {
+        michelson(self.luminance[0], self.luminance[1])
+    }
+}
+
+/// Michelson contrast `(hi - lo) / (hi + lo)` of two luminances (0 when
+/// both are 0).
+pub fn michelson(lo: f32, hi: f32) -> f32 {
+    let sum = lo + hi;
+    if sum > 0.0 {
+        (hi - lo).abs() / sum
+    } else {
+        0.0
+    }
+}
+
+/// Relative linear luminance `Y` (0 to 1) of a CIELUV lightness `L*`: the
+/// exact inverse of the CIE formula [`crate::segment`] converts with.
+pub fn luminance_of_lightness(l_star: f32) -> f32 {
+    const KAPPA: f32 = 24_389.0 / 27.0;
+    if l_star > 8.0 {
+        let t = (l_star + 16.0) / 116.0;
+        (t * t * t).min(1.0)
+    } else {
+        (l_star / KAPPA).max(0.0)
+    }
+}
+
+/// The unique features of the transition between renderings `finer` and
+/// `coarser` (same size). With [`Grouping::Regions`], `regions` are each
+/// one's regions (from [`grow_regions`] at `settings.threshold_delta_e`);
+/// else they are not read and may be `None`. Returns the features in label
+/// order and the feature labels (for inspection images). Identical images
+/// give no features.
+pub fn unique_features(
+    finer: &LuvImage,
+    coarser: &LuvImage,
+    regions: Option<(&Regions, &Regions)>,
+    settings: &FeatureSettings,
+) -> Result<(Vec<UniqueFeature>, Regions), Error> {
+    let (w, h) = (finer.width, finer.height);
+    let n = w as usize * h as usize;
+    let regions = match (settings.grouping, regions) {
+        (Grouping::Regions, Some((ra, rb))) => Some((&ra.labels, &rb.labels)),
+        (Grouping::Regions, None) => {
+            return Err(Error::Settings {
+                field: "regions",
+                message: "grouping by regions needs both renderings' regions".into(),
+            });
+        }
+        (Grouping::ChangeSign, _) => None,
+    };
+    let sizes_match = (coarser.width, coarser.height) == (w, h)
+        && finer.luv.len() == n
+        && coarser.luv.len() == n
+        && regions.is_none_or(|(ra, rb)| ra.len() == n && rb.len() == n);
+    if !sizes_match {
+        return Err(Error::Settings {
+            field: "images",
+            message: format!(
+                "sizes differ: {w}x{h} and {}x{} (or their regions)",
+                coarser.width, coarser.height
+            ),
+        });
+    }
+    let (a, b) = (&finer.luv, &coarser.luv);
+    // Lightness is monotonic in luminance: its change has the same sign.
+    let brighter = |i: usize| b[i][0] > a[i][0];
+    let labels = label_components(
+        w,
+        h,
+        true,
+        |i| a[i] != b[i],
+        |i, j| {
+            brighter(i) == brighter(j)
+                && regions.is_none_or(|(ra, rb)| ra[i] == ra[j] || rb[i] == rb[j])
+        },
+    );
+    let shapes = frequency::measure_regions(&labels, settings.feret_directions);
+    // Per feature: sums of Y and of L*, u*, v* in each image.
+    let ya: Vec<f32> = a.iter().map(|p| luminance_of_lightness(p[0])).collect();
+    let yb: Vec<f32> = b.iter().map(|p| luminance_of_lightness(p[0])).collect();
+    let mut sums = vec![[0.0f64; 8]; labels.count as usize];
+    // Per feature: [min, max] of Y around it in each rendering.
+    let mut ranges = vec![[[f32::INFINITY, f32::NEG_INFINITY]; 2]; labels.count as usize];
+    let (wu, hu) = (w as usize, h as usize);
+    for (i, &l) in labels.labels.iter().enumerate() {
+        if l == Regions::NONE {
+            continue;
+        }
+        let (p, q) = (a[i], b[i]);
+        let s = &mut sums[l as usize];
+        s[0] += f64::from(ya[i]);
+        s[1] += f64::from(yb[i]);
+        for c in 0..3 {
+            s[2 + c] += f64::from(p[c]);
+            s[5 + c] += f64::from(q[c]);
+        }
+        let (x, y) = (i % wu, i / wu);
+        let r = &mut ranges[l as usize];
+        for ny in y.saturating_sub(1)..(y + 2).min(hu) {
+            for nx in x.saturating_sub(1)..(x + 2).min(wu) {
+                let j = ny * wu + nx;
+                for (range, v) in r.iter_mut().zip([ya[j], yb[j]]) {
+                    range[0] = range[0].min(v);
+                    range[1] = range[1].max(v);
+                }
+            }
+        }
+    }
+    let features = shapes
+        .into_iter()
+        .zip(sums)
+        .zip(ranges)
+        .map(|((shape, s), [ra, rb])| {
+            let k = 1.0 / f64::from(shape.pixel_count.max(1));
+            let mean = |x: f64| (x * k) as f32;
+            let (ya, yb) = (mean(s[0]), mean(s[1]));
+            let (du, dv) = (mean(s[3]) - mean(s[6]), mean(s[4]) - mean(s[7]));
+            let l_mean = 0.5 * (mean(s[2]) + mean(s[5]));
+            let chromatic_contrast =
+                (1.5 * (du * du + dv * dv).sqrt() / (l_mean + 16.0).max(16.0)).min(1.0);
+            let luminance_contrast = michelson(ya.min(yb), ya.max(yb));
+            let luminance = if chromatic_contrast > luminance_contrast {
+                // The pair around the mean, moved down where it would pass
+                // peak white (the same contrast).
+                let c = chromatic_contrast;
+                let hi = (0.5 * (ya + yb) * (1.0 + c)).min(1.0);
+                [hi * (1.0 - c) / (1.0 + c), hi]
+            } else {
+                [ya.min(yb), ya.max(yb)]
+            };
+            UniqueFeature {
+                freq_cpx: shape.frequency_cpx(settings.statistic),
+                shape,
+                luminance_finer: ya,
+                luminance_coarser: yb,
+                luminance_contrast,
+                chromatic_contrast,
+                luminance,
+                masker: if michelson(ra[0], ra[1]) <= michelson(rb[0], rb[1]) {
+                    ra
+                } else {
+                    rb
+                },
+            }
+        })
+        .collect();
+    Ok((features, labels))
+}
+
+/// [`unique_features`] with the regions grown here when the grouping needs
+/// them (for tests and benchmarks; the pipeline grows each LOD's regions
+/// once and shares them between its transitions).
+pub fn unique_features_of(
+    finer: &LuvImage,
+    coarser: &LuvImage,
+    settings: &FeatureSettings,
+) -> Result<(Vec<UniqueFeature>, Regions), Error> {
+    if settings.grouping == Grouping::Regions {
+        let ra = grow_regions(finer, settings.threshold_delta_e);
+        let rb = grow_regions(coarser, settings.threshold_delta_e);
+        unique_features(finer, coarser, Some((&ra, &rb)), settings)
+    } else {
+        unique_features(finer, coarser, None, settings)
+    }
+}
+
+/// A feature as [`most_visible`] compares it: frequency, the luminance
+/// pair `[lower, higher]`, the masker's range `[lowest, highest]` and area.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Visibility {
+    /// Frequency (any unit, the same for all).
+    pub freq: f32,
+    /// Area (any unit, the same for all).
+    pub area: f32,
+    /// Luminance pair `[lower, higher]`.
+    pub luminance: [f32; 2],
+    /// Masker range `[lowest, highest]`.
+    pub masker: [f32; 2],
+}
+
+impl Visibility {
+    /// At least as visible as `other` on any display: no finer, no less
+    /// contrast on either side, no more masking, no smaller.
+    pub fn dominates(&self, other: &Visibility) -> bool {
+        self.freq <= other.freq
+            && self.area >= other.area
+            && self.luminance[0] <= other.luminance[0]
+            && self.luminance[1] >= other.luminance[1]
+            && self.masker[0] >= other.masker[0]
+            && self.masker[1] <= other.masker[1]
+    }
+}
+
+/// The indices of the features no other feature dominates
+/// ([`Visibility::dominates`]), ascending by frequency. Features without
+/// contrast (equal luminances) or with non-finite values are never
+/// visible and are left out; of features equal in every respect the first
+/// is kept. O(n k) for n features of which k are kept.
+pub fn most_visible(features: &[Visibility]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..features.len())
+        .filter(|&i| {
+            let f = &features[i];
+            let [lo, hi] = f.luminance;
+            f.freq.is_finite()
+                && f.area.is_finite()
+                && lo.is_finite()
+                && hi.is_finite()
+                && f.masker.iter().all(|m| m.is_finite())
+                && hi > lo
+        })
+        .collect();
+    // Lower frequency first, so that a feature can only be dominated by
+    // one before it or one of equal frequency.
+    order.sort_by(|&i, &j| {
+        features[i]
+            .freq
+            .total_cmp(&features[j].freq)
+            .then(i.cmp(&j))
+    });
+    let mut kept: Vec<usize> = Vec::new();
+    for i in order {
+        let f = &features[i];
+        if kept.iter().any(|&k| features[k].dominates(f)) {
+            continue;
+        }
+        kept.retain(|&k| !f.dominates(&features[k]));
+        kept.push(i);
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lightness_inverts_the_cie_formula() {
+        for y in [0.0f32, 0.001, 0.008, 0.0089, 0.05, 0.18, 0.5, 1.0] {
+            let l = if y > 216.0 / 24389.0 {
+                116.0 * y.powf(1.0 / 3.0) - 16.0
+            } else {
+                24389.0 / 27.0 * y
+            };
+            assert!((luminance_of_lightness(l) - y).abs() < 1e-5, "{y}");
+        }
+    }
+
+    fn v(freq: f32, luminance: [f32; 2]) -> Visibility {
+        Visibility {
+            freq,
+            area: 1.0,
+            luminance,
+            masker: [0.0, 1.0],
+        }
+    }
+
+    #[test]
+    fn a_dominated_feature_is_dropped_and_the_front_is_kept() {
+        let f = [
+            v(1.0, [0.1, 0.5]),  // kept: coarsest
+            v(2.0, [0.1, 0.4]),  // dominated by 0 (finer, less contrast)
+            v(2.0, [0.0, 0.4]),  // kept: darker low side
+            v(3.0, [0.2, 0.9]),  // kept: brighter high side
+            v(4.0, [0.3, 0.3]),  // no contrast
+            v(5.0, [0.0, 0.95]), // kept
+            v(6.0, [0.05, 0.9]), // dominated by 5
+            Visibility {
+                masker: [0.2, 0.3],
+                ..v(7.0, [0.05, 0.9])
+            }, // kept: less masked than 5 and 6
+        ];
+        assert_eq!(most_visible(&f), vec![0, 2, 3, 5, 7]);
+    }
+
+    #[test]
+    fn the_pareto_set_matches_brute_force() {
+        // A small deterministic generator: the same features every run.
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for n in [0, 1, 5, 50, 300] {
+            let mut pair = || {
+                let (a, b) = ((next() * 8.0).round() / 8.0, (next() * 8.0).round() / 8.0);
+                [a.min(b), a.max(b)]
+            };
+            let f: Vec<Visibility> = (0..n)
+                .map(|_| Visibility {
+                    luminance: pair(),
+                    masker: pair(),
+                    freq: (pair()[1] * 6.0).round() + 1.0,
+                    area: (pair()[0] * 3.0).round(),
+                })
+                .collect();
+            let dominates = |j: usize, i: usize| f[j].dominates(&f[i]);
+            let mut want: Vec<usize> = (0..n)
+                .filter(|&i| f[i].luminance[1] > f[i].luminance[0])
+                .filter(|&i| !(0..n).any(|j| j != i && dominates(j, i) && (f[j] != f[i] || j < i)))
+                .collect();
+            let mut got = most_visible(&f);
+            want.sort_unstable();
+            got.sort_unstable();
+            assert_eq!(got, want, "n = {n}");
+        }
+    }
+}
