@@ -17,10 +17,13 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
+use super::dump::{Metric, check_fvvdp, score_fvvdp};
 use super::frames::{ProfileArgs, World, parse_resolution};
 use super::placement::PlacementSpec;
 use super::plot::{LinePlot, Series, save_line_plot};
-use super::run::{PlaySettings, Player, Summary, format_table, summarize, write_frames_csv};
+use super::run::{
+    PlaySettings, Player, Summary, attach_jod, format_table, summarize, write_frames_csv,
+};
 use super::scene::{Policy, Scene};
 
 /// The paper's object counts.
@@ -41,7 +44,8 @@ pub enum Experiment {
     /// the size component's share of the LOD reduction (Reddy 1998 §5.1–5.2).
     Speedup(SpeedupArgs),
     /// Run time against error: mean frame time and triangles versus mean
-    /// FLIP, for screen size across its bias and acuity across `s`.
+    /// FLIP (and FovVideoVDP JOD with `--metric fvvdp`), for screen size
+    /// across its bias and acuity across `s`.
     Error(ErrorArgs),
     /// A fixed-frame-rate loop (VR-style yaw sweep) under load spikes:
     /// frames over budget and `s` over time, with and without each
@@ -73,6 +77,12 @@ pub struct ErrorArgs {
     /// FLIP on every n-th frame (>= 1).
     #[arg(long, default_value_t = 3)]
     pub flip_every: u32,
+    /// Error metrics, comma-separated: `flip` (FLIP on every n-th frame)
+    /// and `fvvdp` (FovVideoVDP on every frame, foveated at the gaze: needs
+    /// Python with pyfvvdp, `$ACUITY_PYTHON` or `python3`; dumps the frames,
+    /// to `<out>/frames/` without --dump-frames).
+    #[arg(long, value_delimiter = ',', default_value = "flip")]
+    pub metric: Vec<Metric>,
     /// Options every experiment shares.
     #[command(flatten)]
     pub common: CommonArgs,
@@ -108,6 +118,13 @@ pub struct CommonArgs {
     /// Output folder (default `out/experiment-<name>/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
+    /// rendered; knob as in the CSV, full detail is `full_1`, dumped even
+    /// when not played), each folder with gaze.csv (frame,x_px,y_px: the
+    /// gaze in pixels, origin top-left, y down), and DIR/display.json
+    /// (resolution, fov_deg, fps, photometry, sequences).
+    #[arg(long, value_name = "DIR")]
+    pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.
     #[command(flatten)]
     pub profiles: ProfileArgs,
@@ -133,8 +150,9 @@ impl CommonArgs {
     }
 }
 
-/// Runs the error experiment; writes `error.csv`, `error_time.png` and
-/// `error_triangles.png`; returns the summaries (full detail first).
+/// Runs the error experiment; writes `error.csv`, with FLIP
+/// `error_time.png` and `error_triangles.png`, with FovVideoVDP
+/// `error_jod.png`; returns the summaries (full detail first).
 pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if args.frames == 0 || args.flip_every == 0 {
         bail!("--frames and --flip-every need at least 1");
@@ -155,39 +173,67 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             acuity_policies.push(p);
         }
     }
+    let (flip, fvvdp) = (
+        args.metric.contains(&Metric::Flip),
+        args.metric.contains(&Metric::Fvvdp),
+    );
+    if fvvdp {
+        check_fvvdp()?;
+    }
     let world = args.common.load(&args.scene)?;
+    let out = args.common.out_dir("error")?;
     let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
-    settings.flip_every_n_frames = args.flip_every;
+    settings.flip_every_n_frames = if flip { args.flip_every } else { 0 };
     settings.keep_images = false;
+    settings.dump_dir = args
+        .common
+        .dump_frames
+        .clone()
+        .or_else(|| fvvdp.then(|| out.join("frames")));
     let mut configs = vec![(Policy::Full, 1.0)];
     configs.extend(args.biases.iter().map(|&b| (Policy::ScreenSize, b)));
     for &p in &acuity_policies {
         configs.extend(args.scales.iter().map(|&s| (p, s)));
     }
-    let mut player = Player::new(&world, settings)?;
+    let mut player = Player::new(&world, settings.clone())?;
     let runs = player.play_configs(&configs, 1.0)?;
-    let sums = summarize(&runs, world.scene.run.budget_s());
-    let out = args.common.out_dir("error")?;
-    let screen_curve: Vec<(f64, f64)> = sums
-        .iter()
-        .filter(|s| s.policy == Policy::ScreenSize)
-        .map(|s| (s.flip_mean, s.triangles))
-        .collect();
-    let mut csv = String::from(
-        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95,triangles_vs_screen_size\n",
+    let mut sums = summarize(&runs, world.scene.run.budget_s());
+    if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
+        attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
+    }
+    let screen_curve = |y: &dyn Fn(&Summary) -> f64| -> Vec<(f64, f64)> {
+        sums.iter()
+            .filter(|s| s.policy == Policy::ScreenSize)
+            .map(|s| (y(s), s.triangles))
+            .collect()
+    };
+    let (flip_curve, jod_curve) = (
+        screen_curve(&|s| s.flip_mean),
+        screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
     );
+    let mut csv = String::from(
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod\n",
+    );
+    let jod_head = if fvvdp {
+        format!(" {:>6} {:>10}", "JOD", "vs scr JOD")
+    } else {
+        String::new()
+    };
     println!(
-        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>10}",
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>10}{jod_head}",
         "policy", "knob", "mean ms", "p95 ms", "tris/frm", "LOD", "FLIP", "FLIP p95", "vs screen"
     );
+    let text = |v: Option<f64>, f: &dyn Fn(f64) -> String, none: &str| v.map_or(none.into(), f);
     for s in &sums {
-        let ratio = match s.policy {
+        let vs = |curve: &[(f64, f64)], v: f64, m: ErrorMeasure| match s.policy {
             Policy::Full | Policy::ScreenSize => None,
-            _ => triangles_at_equal_error(&screen_curve, s.flip_mean).map(|t| s.triangles / t),
+            _ => triangles_at_equal(curve, v, m).map(|t| s.triangles / t),
         };
+        let ratio = vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip);
+        let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6},{}",
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6},{},{},{}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -196,10 +242,21 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.mean_lod,
             s.flip_mean,
             s.flip_p95,
-            ratio.map_or(String::new(), |r| format!("{r:.4}"))
+            text(ratio, &|r| format!("{r:.4}"), ""),
+            text(s.jod, &|r| format!("{r:.4}"), ""),
+            text(ratio_jod, &|r| format!("{r:.4}"), ""),
         );
+        let jod_cols = if fvvdp {
+            format!(
+                " {:>6} {:>10}",
+                text(s.jod, &|j| format!("{j:.3}"), "-"),
+                text(ratio_jod, &|r| format!("{r:.2}x"), "-")
+            )
+        } else {
+            String::new()
+        };
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4} {:>10}",
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4} {:>10}{jod_cols}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -208,16 +265,16 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.mean_lod,
             s.flip_mean,
             s.flip_p95,
-            ratio.map_or("-".to_string(), |r| format!("{r:.2}x"))
+            text(ratio, &|r| format!("{r:.2}x"), "-")
         );
     }
     let path = out.join("error.csv");
     std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
-    let curve = |p: Policy, y: &dyn Fn(&Summary) -> f64| {
+    let curve = |p: Policy, x: &dyn Fn(&Summary) -> f64, y: &dyn Fn(&Summary) -> f64| {
         let mut pts: Vec<(f64, f64)> = sums
             .iter()
             .filter(|s| s.policy == p || s.policy == Policy::Full)
-            .map(|s| (s.flip_mean, y(s)))
+            .map(|s| (x(s), y(s)))
             .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         Series {
@@ -228,28 +285,47 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             points: pts,
         }
     };
-    for (file, title, ylabel, y) in [
-        (
+    type Field<'a> = &'a dyn Fn(&Summary) -> f64;
+    let flip_x: Field = &|s| s.flip_mean;
+    let jod_x: Field = &|s| s.jod.unwrap_or(f64::NAN);
+    let mut plots: Vec<(&str, &str, &str, &str, Field, Field)> = Vec::new();
+    if flip {
+        plots.push((
             "error_time.png",
             "frame time vs FLIP",
+            "mean FLIP",
             "mean frame time (ms)",
-            &(|s: &Summary| s.mean_ms) as &dyn Fn(&Summary) -> f64,
-        ),
-        (
+            flip_x,
+            &|s| s.mean_ms,
+        ));
+        plots.push((
             "error_triangles.png",
             "triangles vs FLIP",
+            "mean FLIP",
             "triangles per frame",
-            &|s: &Summary| s.triangles,
-        ),
-    ] {
+            flip_x,
+            &|s| s.triangles,
+        ));
+    }
+    if fvvdp {
+        plots.push((
+            "error_jod.png",
+            "triangles vs FovVideoVDP (10 = identical)",
+            "JOD",
+            "triangles per frame",
+            jod_x,
+            &|s| s.triangles,
+        ));
+    }
+    for (file, title, xlabel, ylabel, x, y) in &plots {
         save_line_plot(
             &LinePlot {
-                title: title.into(),
-                x_label: "mean FLIP".into(),
-                y_label: ylabel.into(),
+                title: (*title).into(),
+                x_label: (*xlabel).into(),
+                y_label: (*ylabel).into(),
                 series: std::iter::once(Policy::ScreenSize)
                     .chain(acuity_policies.iter().copied())
-                    .map(|p| curve(p, y))
+                    .map(|p| curve(p, *x, *y))
                     .collect(),
                 log_x: false,
                 markers: true,
@@ -259,38 +335,60 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         )?;
     }
     if !args.common.profiles.quiet {
-        eprintln!(
-            "wrote {} (error.csv, error_time.png, error_triangles.png)",
-            out.display()
-        );
+        let files: Vec<&str> = std::iter::once("error.csv")
+            .chain(plots.iter().map(|p| p.0))
+            .collect();
+        eprintln!("wrote {} ({})", out.display(), files.join(", "));
     }
     Ok(sums)
 }
 
-/// The triangles per frame a policy curve (points of mean FLIP and
-/// triangles, any order) reaches at mean FLIP `flip`, by log-log
-/// interpolation between its two neighbouring points; `None` outside the
-/// curve's FLIP range or where a point has no error or no triangles (no
-/// extrapolation: a comparison at an error the curve never reached is not
-/// measured).
-pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> {
+/// An error measure, for comparisons at equal error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorMeasure {
+    /// Mean FLIP: lower is better, 0 = identical. Compared on a log scale,
+    /// so points of zero FLIP are left out.
+    Flip,
+    /// FovVideoVDP JOD: higher is better, 10 = identical. Already a
+    /// perceptual scale (one JOD, 75% of observers), compared linearly;
+    /// every finite value counts, 10 included.
+    Jod,
+}
+
+/// The triangles per frame a policy curve (points of error and triangles,
+/// any order) reaches at error `value`, interpolating log(triangles)
+/// linearly between the two neighbouring points along the measure's axis
+/// (log FLIP, or JOD). `None` outside the curve's range of error or where
+/// there is none (no extrapolation: a comparison at an error the curve
+/// never reached is not measured). Points with equal error count as the
+/// one with the fewest triangles (the curve reaches that error with
+/// those). The direction of the measure does not matter here: only where
+/// `value` falls between points does.
+pub fn triangles_at_equal(curve: &[(f64, f64)], value: f64, measure: ErrorMeasure) -> Option<f64> {
+    let axis = |e: f64| match measure {
+        ErrorMeasure::Flip => (e > 0.0 && e.is_finite()).then(|| e.ln()),
+        ErrorMeasure::Jod => e.is_finite().then_some(e),
+    };
+    let x = axis(value)?;
     let mut pts: Vec<(f64, f64)> = curve
         .iter()
-        .copied()
-        .filter(|&(f, t)| f > 0.0 && t > 0.0 && f.is_finite() && t.is_finite())
+        .filter(|&&(_, t)| t > 0.0 && t.is_finite())
+        .filter_map(|&(e, t)| Some((axis(e)?, t)))
         .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // NaN and non-positive `flip` fall in no window.
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    pts.dedup_by(|b, a| a.0 == b.0);
+    if let Some(&(_, t)) = pts.iter().find(|p| p.0 == x) {
+        return Some(t);
+    }
     pts.windows(2).find_map(|w| {
-        let ((f0, t0), (f1, t1)) = (w[0], w[1]);
-        (f0 <= flip && flip <= f1).then(|| {
-            if f1 == f0 {
-                t0
-            } else {
-                t0 * (t1 / t0).powf((flip / f0).ln() / (f1 / f0).ln())
-            }
-        })
+        let ((x0, t0), (x1, t1)) = (w[0], w[1]);
+        (x0 < x && x < x1).then(|| t0 * (t1 / t0).powf((x - x0) / (x1 - x0)))
     })
+}
+
+/// [`triangles_at_equal`] for mean FLIP.
+pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> {
+    triangles_at_equal(curve, flip, ErrorMeasure::Flip)
 }
 
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
@@ -309,6 +407,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     let mut settings = PlaySettings::from_scene(&world.scene, args.frames)?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;
+    settings.dump_dir = args.common.dump_frames.clone();
     // Two spikes, at 25-37.5% and 62.5-75% of the path.
     let d = f64::from(settings.frames) * settings.dt_s;
     let extra_ms = args.spike_load * world.scene.run.budget_s() * 1e3;
@@ -405,6 +504,15 @@ pub struct SpeedupArgs {
     /// Output folder (default `out/experiment-speedup/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write every played frame, per N and trial, to
+    /// `DIR/nNNNN_trialT/<policy>_<knob>/NNNN.png` (e.g.
+    /// `n0100_trial0/acuity_all_1/0007.png`; RGB, as rendered; knob as in
+    /// `acuity run`'s dump, full detail `full_1`), each policy folder with
+    /// gaze.csv (frame,x_px,y_px: the gaze in pixels, origin top-left, y
+    /// down), each trial folder with display.json (resolution, fov_deg,
+    /// fps, photometry, sequences).
+    #[arg(long, value_name = "DIR")]
+    pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.
     #[command(flatten)]
     pub profiles: ProfileArgs,
@@ -502,6 +610,11 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
                 c.seed = seed;
             }
             world.replace_placements(s)?;
+            let mut settings = settings.clone();
+            settings.dump_dir = args
+                .dump_frames
+                .as_ref()
+                .map(|d| d.join(format!("n{count:04}_trial{trial}")));
             let mut player = Player::new(&world, settings.clone())?;
             let runs = player.play_all(&settings.policies, world.scene.run.screen_size_bias)?;
             let sums = summarize(&runs, world.scene.run.budget_s());
@@ -673,6 +786,58 @@ mod tests {
         assert_eq!(triangles_at_equal_error(&curve, 0.005), None);
         assert_eq!(triangles_at_equal_error(&curve, 0.0), None);
         assert_eq!(triangles_at_equal_error(&curve, f64::NAN), None);
+    }
+
+    #[test]
+    fn equal_jod_interpolates_log_triangles_linearly_in_jod() {
+        // Higher is better: more triangles, higher JOD; any order.
+        let curve = [(9.0, 40_000.0), (8.0, 10_000.0), (10.0, 90_000.0)];
+        let j = |v| triangles_at_equal(&curve, v, ErrorMeasure::Jod);
+        let mid = j(8.5).unwrap();
+        assert!((mid - 20_000.0).abs() < 1e-6, "{mid}");
+        let upper = j(9.5).unwrap();
+        assert!((upper - 60_000.0).abs() < 1e-6, "{upper}");
+        // The ends are in; JOD 10 (identical) is a point like any other.
+        assert_eq!(j(8.0), Some(10_000.0));
+        assert_eq!(j(10.0), Some(90_000.0));
+        // No extrapolation, no NaN.
+        assert_eq!(j(7.99), None);
+        assert_eq!(j(10.01), None);
+        assert_eq!(j(f64::NAN), None);
+        // FLIP's log axis would refuse these; JOD takes them.
+        let low = [(-1.0, 100.0), (0.0, 400.0)];
+        let t = triangles_at_equal(&low, -0.5, ErrorMeasure::Jod).unwrap();
+        assert!((t - 200.0).abs() < 1e-9, "{t}");
+        assert_eq!(triangles_at_equal(&low, -0.5, ErrorMeasure::Flip), None);
+    }
+
+    #[test]
+    fn equal_error_ties_take_the_fewest_triangles_and_skip_bad_points() {
+        let jod = [
+            (9.0, 50_000.0),
+            (9.0, 30_000.0),
+            (10.0, 90_000.0),
+            (f64::NAN, 1.0),
+            (9.5, 0.0),
+        ];
+        assert_eq!(
+            triangles_at_equal(&jod, 9.0, ErrorMeasure::Jod),
+            Some(30_000.0)
+        );
+        let mid = triangles_at_equal(&jod, 9.5, ErrorMeasure::Jod).unwrap();
+        assert!((mid - (30_000.0f64 * 90_000.0).sqrt()).abs() < 1e-6);
+        // A single point matches only itself.
+        assert_eq!(
+            triangles_at_equal(&[(9.2, 7.0)], 9.2, ErrorMeasure::Jod),
+            Some(7.0)
+        );
+        assert_eq!(
+            triangles_at_equal(&[(9.2, 7.0)], 9.3, ErrorMeasure::Jod),
+            None
+        );
+        // The same for FLIP, lower is better: the direction does not matter.
+        let flip = [(0.02, 50_000.0), (0.02, 30_000.0), (0.01, 90_000.0)];
+        assert_eq!(triangles_at_equal_error(&flip, 0.02), Some(30_000.0));
     }
 
     #[test]

@@ -12,9 +12,11 @@
 //! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
 //! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
 //!   instances) and frame rendering; [`policy`]: the LOD policies;
-//!   [`flip`]: the FLIP error; [`plot`]: PNG line plots; [`run`]: `acuity
+//!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
+//!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
 
+pub mod dump;
 pub mod experiment;
 pub mod flip;
 pub mod frames;

@@ -1,13 +1,16 @@
 //! `acuity run <scene>`: fly a scene's camera path under each LOD policy,
 //! measure every frame, compare sampled frames with full detail by FLIP,
-//! and write a table, a per-frame CSV, plots and side-by-side images.
+//! and write a table, a per-frame CSV, plots and side-by-side images;
+//! optionally dump every frame and score the dump with FovVideoVDP
+//! ([`super::dump`]).
 //!
 //! Frame time is wall-clock time from the start of LOD selection to the
 //! moment the rendered image is back in memory (the renderer waits for the
 //! GPU), so it counts selection, submission, rasterisation and readback.
-//! The full-detail reference frames and FLIP are computed outside it.
+//! The full-detail reference frames, FLIP and frame dumps are computed
+//! outside it.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -16,6 +19,7 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use image::RgbImage;
 
+use super::dump::{FrameDump, Metric, REFERENCE_SEQUENCE, sequence_name};
 use super::flip::{flip_rgba, quantile};
 use super::frames::{FrameView, ProfileArgs, World, parse_resolution};
 use super::gaze::Gaze as GazePath;
@@ -41,6 +45,19 @@ pub struct RunArgs {
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<[u32; 2]>,
+    /// Error metrics, comma-separated: `flip` (FLIP on sampled frames) and
+    /// `fvvdp` (FovVideoVDP on every frame, foveated at the gaze: needs
+    /// Python with pyfvvdp, `$ACUITY_PYTHON` or `python3`; dumps the frames,
+    /// to `<out>/frames/` without --dump-frames).
+    #[arg(long, value_delimiter = ',', default_value = "flip")]
+    pub metric: Vec<Metric>,
+    /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
+    /// rendered; knob as in the experiments' CSV, full detail is `full_1`,
+    /// dumped even when `full` is not played), each folder with gaze.csv
+    /// (frame,x_px,y_px: the gaze in pixels, origin top-left, y down), and
+    /// DIR/display.json (resolution, fov_deg, fps, photometry, sequences).
+    #[arg(long, value_name = "DIR")]
+    pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.
     #[command(flatten)]
     pub profiles: ProfileArgs,
@@ -90,6 +107,9 @@ pub struct PlaySettings {
     /// CPU for `extra_ms` milliseconds (a stand-in for a game's logic or
     /// streaming spikes). Empty by default.
     pub load_spikes: Vec<(f64, f64, f64)>,
+    /// Dump every played frame, and full detail's, into this folder
+    /// ([`FrameDump`]); `None` by default.
+    pub dump_dir: Option<PathBuf>,
 }
 
 impl PlaySettings {
@@ -109,6 +129,7 @@ impl PlaySettings {
             policies: run.policies.clone(),
             keep_images: true,
             load_spikes: Vec::new(),
+            dump_dir: None,
         })
     }
 }
@@ -311,8 +332,24 @@ impl<'w> Player<'w> {
         let ppd = world.pixels_per_degree();
         let mut lods = std::mem::take(&mut self.lods);
         let n_pol = policies.len().max(1);
+        // A sequence per distinct name (a repeated configuration is dumped
+        // once), and full detail's even when it is not played.
+        let names: Vec<String> = configs.iter().map(|&(p, k)| sequence_name(p, k)).collect();
+        let dumped: Vec<bool> = (0..names.len())
+            .map(|i| !names[..i].contains(&names[i]))
+            .collect();
+        let dump_reference = !names.iter().any(|n| n == REFERENCE_SEQUENCE);
+        let mut dump = match &self.settings.dump_dir {
+            Some(dir) => Some(FrameDump::create(
+                dir,
+                &world.scene.display,
+                self.settings.dt_s,
+            )?),
+            None => None,
+        };
         for k in 0..self.settings.frames {
             let view = self.view(k);
+            let gaze_px = dump.as_ref().map(|d| d.gaze_pixel(view.gaze_camera));
             for j in 0..policies.len() {
                 let p = (j + k as usize) % n_pol;
                 let (runner, run) = (&mut runners[p], &mut runs[p]);
@@ -330,6 +367,11 @@ impl<'w> Player<'w> {
                 }
                 let frame_s = start.elapsed().as_secs_f64();
                 runner.observe(frame_s, out.triangles);
+                if let (Some(d), Some(g)) = (dump.as_mut(), gaze_px)
+                    && dumped[p]
+                {
+                    d.write_frame(&names[p], k, &out.rgba, g)?;
+                }
                 let drawn: Vec<usize> = lods.iter().flatten().copied().collect();
                 let mean_lod = if drawn.is_empty() {
                     f64::NAN
@@ -369,8 +411,25 @@ impl<'w> Player<'w> {
                 }
                 run.frames.push(rec);
             }
+            if let (Some(d), Some(g)) = (dump.as_mut(), gaze_px)
+                && dump_reference
+            {
+                let rendered;
+                let rgba: &[u8] = match self.references.get(&k) {
+                    Some(r) => r,
+                    None => {
+                        self.full.choose(world, &view, 0.0, &mut lods)?;
+                        rendered = world.render(&view, &lods)?;
+                        &rendered.rgba
+                    }
+                };
+                d.write_frame(REFERENCE_SEQUENCE, k, rgba, g)?;
+            }
         }
         self.lods = lods;
+        if let Some(d) = dump {
+            d.finish()?;
+        }
         Ok(runs)
     }
 }
@@ -415,6 +474,9 @@ pub struct Summary {
     pub over_budget: f64,
     /// Mean scale factor `s`.
     pub mean_scale: f64,
+    /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
+    /// identical); `None` unless scored ([`attach_jod`]).
+    pub jod: Option<f64>,
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> f64 {
@@ -466,17 +528,37 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                     .count() as f64
                     / n,
                 mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
+                jod: None,
             }
         })
         .collect()
 }
 
-/// The summary as a text table.
+/// Sets each summary's [`Summary::jod`] from FovVideoVDP scores by
+/// sequence name ([`sequence_name`]); every summary must have one.
+pub fn attach_jod(summaries: &mut [Summary], scores: &BTreeMap<String, f64>) -> anyhow::Result<()> {
+    for s in summaries {
+        let name = sequence_name(s.policy, s.knob);
+        let jod = scores
+            .get(&name)
+            .with_context(|| format!("FovVideoVDP gave no score for `{name}`"))?;
+        s.jod = Some(*jod);
+    }
+    Ok(())
+}
+
+/// The summary as a text table; a JOD column when any summary has one.
 pub fn format_table(summaries: &[Summary]) -> String {
+    let with_jod = summaries.iter().any(|s| s.jod.is_some());
+    let jod_col = |v: Option<f64>| match (with_jod, v) {
+        (false, _) => String::new(),
+        (true, Some(v)) => format!(" {v:>6.3}"),
+        (true, None) => format!(" {:>6}", "-"),
+    };
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>8} {:>8} {:>6} {:>5}",
+        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
         "policy",
         "mean ms",
         "p95 ms",
@@ -488,7 +570,12 @@ pub fn format_table(summaries: &[Summary]) -> String {
         "FLIP",
         "FLIP p95",
         "over%",
-        "s"
+        "s",
+        if with_jod {
+            format!(" {:>6}", "JOD")
+        } else {
+            String::new()
+        }
     );
     let opt = |v: Option<f64>| v.map_or("-".to_owned(), |v| format!("{v:.2}x"));
     let flip = |v: f64| {
@@ -501,7 +588,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
     for s in summaries {
         let _ = writeln!(
             t,
-            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8} {:>8} {:>6.1} {:>5.2}",
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8} {:>8} {:>6.1} {:>5.2}{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -513,7 +600,8 @@ pub fn format_table(summaries: &[Summary]) -> String {
             flip(s.flip_mean),
             flip(s.flip_p95),
             100.0 * s.over_budget,
-            s.mean_scale
+            s.mean_scale,
+            jod_col(s.jod)
         );
     }
     t
@@ -552,13 +640,13 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// Writes the summary CSV.
 pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
-        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale\n",
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for s in summaries {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{},{},{:.6},{:.6},{:.4},{:.4}",
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{},{},{:.6},{:.6},{:.4},{:.4},{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -570,7 +658,8 @@ pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<(
             s.flip_mean,
             s.flip_p95,
             s.over_budget,
-            s.mean_scale
+            s.mean_scale,
+            s.jod.map(|v| format!("{v:.4}")).unwrap_or_default()
         );
     }
     std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
@@ -681,6 +770,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     if args.frames == Some(0) {
         bail!("--frames must be at least 1");
     }
+    let fvvdp = args.metric.contains(&Metric::Fvvdp);
+    if fvvdp {
+        super::dump::check_fvvdp()?;
+    }
     let world = load_world(args)?;
     let scene = &world.scene;
     let name = scene
@@ -693,7 +786,14 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         .clone()
         .unwrap_or_else(|| Path::new("out").join(&name));
     std::fs::create_dir_all(&out_dir).with_context(|| format!("creating {}", out_dir.display()))?;
-    let settings = PlaySettings::from_scene(scene, args.frames)?;
+    let mut settings = PlaySettings::from_scene(scene, args.frames)?;
+    if !args.metric.contains(&Metric::Flip) {
+        settings.flip_every_n_frames = 0;
+    }
+    settings.dump_dir = args
+        .dump_frames
+        .clone()
+        .or_else(|| fvvdp.then(|| out_dir.join("frames")));
     if !args.profiles.quiet {
         eprintln!(
             "{name}: {} instances, {} frames x {} policies at {}x{}, renderer: {}",
@@ -711,7 +811,13 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     if !args.profiles.quiet {
         eprintln!("played in {:.1} s", started.elapsed().as_secs_f64());
     }
-    let summaries = summarize(&runs, scene.run.budget_s());
+    let mut summaries = summarize(&runs, scene.run.budget_s());
+    if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
+        attach_jod(
+            &mut summaries,
+            &super::dump::score_fvvdp(dir, args.profiles.quiet)?,
+        )?;
+    }
     print!("{}", format_table(&summaries));
     write_frames_csv(&runs, &out_dir.join("frames.csv"))?;
     write_summary_csv(&summaries, &out_dir.join("summary.csv"))?;
@@ -724,10 +830,18 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         }
     }
     if !args.profiles.quiet {
+        let flip_images = if runs.iter().any(|r| r.worst.is_some()) {
+            ", flip_*.png: reference | policy | FLIP"
+        } else {
+            ""
+        };
         eprintln!(
-            "wrote {} (frames.csv, summary.csv, frame_time.png, triangles.png, scale.png, flip_*.png: reference | policy | FLIP)",
+            "wrote {} (frames.csv, summary.csv, frame_time.png, triangles.png, scale.png{flip_images})",
             out_dir.display()
         );
+        if let Some(dir) = &settings.dump_dir {
+            eprintln!("dumped every frame to {}", dir.display());
+        }
     }
     Ok(RunOutcome {
         runs,
