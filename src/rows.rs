@@ -26,6 +26,21 @@
 //! The display's resolution limit is thereby in the images: a rung is
 //! rendered at the size the display shows the object, so what the display
 //! cannot show is not among its features.
+//!
+//! Size never buys less detail. Within a rung, an object is judged at the
+//! upper end of the rung's range (`k = s H u_r` with `u_r` the boundary
+//! above it): the largest object the rung serves shows its features at the
+//! lowest frequencies in c/deg, so this is conservative for every size in
+//! the range. The bottom and top rungs judge an object at its own size
+//! (the top rung's range has no end; below the bottom rung there is no
+//! boundary to keep monotonic, and a far-off speck must be able to drop
+//! detail); at the bottom rung's upper end that is `u_0` as well. Across rungs, a feature measured on a larger rendering is finer
+//! in c/diam (a one-pixel sliver is `D / 2` c/diam), so left alone an object
+//! could become *coarser* as it grows past a boundary. The compiled rows
+//! therefore hold, per transition, the running minimum over rungs of the
+//! critical acuity `q_r / u_r` (c/deg: the `s H` below which the
+//! transition is invisible), times `u_r`: a larger object is never judged
+//! invisible where a smaller one was visible.
 
 use std::collections::HashMap;
 
@@ -121,6 +136,7 @@ pub(crate) fn compile(
     for rung in 0..rungs {
         rows[rung * stride..rung * stride + n].fill(f32::INFINITY);
     }
+    let boundaries = rung_boundaries_deg(&profile.rung_diameters_px, pixels_per_degree);
     for v in 0..views {
         for rung in 0..rungs {
             let mut running = f32::INFINITY;
@@ -133,6 +149,27 @@ pub(crate) fn compile(
                 rows[at + t] = running;
                 let worst = &mut rows[rung * stride + t];
                 *worst = worst.min(running);
+            }
+        }
+    }
+    for block in 0..=views {
+        for t in 0..n {
+            let at = |rung: usize| (block * rungs + rung) * stride + t;
+            // The critical acuity `q / u` may only fall as the rung rises.
+            let mut acuity_cpd = f32::INFINITY;
+            for (rung, &upper_deg) in boundaries.iter().enumerate() {
+                let q = &mut rows[at(rung)];
+                if *q / upper_deg <= acuity_cpd {
+                    acuity_cpd = *q / upper_deg;
+                } else {
+                    *q = acuity_cpd * upper_deg;
+                }
+            }
+            // The top rung's objects are judged at their own size, at least
+            // the last boundary.
+            if let Some(&last_deg) = boundaries.last() {
+                let q = &mut rows[at(rungs - 1)];
+                *q = q.min(acuity_cpd * last_deg);
             }
         }
     }
@@ -242,6 +279,24 @@ mod tests {
                 for (t, &entry) in row.iter().enumerate().take(3) {
                     assert!(r.rows[rung * 4 + t] <= entry);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn a_larger_object_is_never_judged_invisible_where_a_smaller_was_visible() {
+        let (p, c) = csf();
+        let profile = sample_profile();
+        let ppd = 20.0;
+        let r = compile(&profile, &p, &c, ppd);
+        let b = rung_boundaries_deg(&profile.rung_diameters_px, ppd);
+        for block in 0..7 {
+            for t in 0..3 {
+                let q0 = r.rows[(block * 2) * 4 + t];
+                let q1 = r.rows[(block * 2 + 1) * 4 + t];
+                // At the boundary, rung 0 is judged at b and rung 1 at its
+                // own size b: the threshold on s H may only fall.
+                assert!(q1 / b[0] <= q0 / b[0], "block {block} t {t}: {q0} {q1}");
             }
         }
     }

@@ -269,8 +269,8 @@ const NO_HISTORY: MotionBlock = MotionBlock {
 
 #[derive(Clone, Copy, Debug, Default)]
 struct BudgetEntry {
-    /// `min(H, xi) * theta`: the threshold at `s = 1` in c/diam (`inf`
-    /// inside the bounding sphere).
+    /// `H(v, E) u`: the threshold at `s = 1` in c/diam, `u` the size the
+    /// object is judged at (`inf` inside the bounding sphere).
     k_cdiam: f32,
     /// Start of the object's prefix-minimum row; `u32::MAX` when culled.
     row: u32,
@@ -766,7 +766,7 @@ impl Selector {
     /// `triangle_budget`, before anything is drawn, and selects with it.
     ///
     /// Every object's LOD is a step function of `s` with breakpoints at
-    /// `prefix_min / (min(H, xi) theta)`; the breakpoints' triangle savings
+    /// `prefix_min / (H u)` (see [`crate::rows`]); the breakpoints' triangle savings
     /// are binned over `log s` (256 bins), and the chosen `s` is checked
     /// against the exact count. Lowering `s` always drops the least
     /// visible detail first.
@@ -1112,11 +1112,12 @@ fn outside_frustum(c: &FrameConsts<'_>, p: Vec3, r: f32) -> bool {
 }
 
 /// The selection rule (REFERENCE §4) for one object: the coarsest LOD `j`
-/// such that every feature removed on the way from LOD 0 is finer than the
-/// threshold. `prefix_min_cdiam[t]` is the lowest unique frequency of
-/// transitions `0..=t` in c/diam (non-increasing; `inf` where no feature
-/// changed), `threshold_cpd` is `T` in c/deg and `angular_size_deg` the
-/// object's `theta`; a feature of `f` c/diam shows at `f / theta` c/deg.
+/// such that every feature removed on the way from LOD 0 is invisible.
+/// `prefix_min_cdiam[t]` is the lowest critical frequency of transitions
+/// `0..=t` in c/diam (non-increasing; `inf` where nothing visible changed;
+/// [`crate::rows`]), `threshold_cpd` is `T = s H(v, E)` in c/deg and
+/// `angular_size_deg` the size the object is judged at; a feature is
+/// invisible when its critical frequency exceeds `T` times the size.
 /// A `NaN` threshold or size gives 0 (full detail), the conservative answer.
 pub fn lod_for_threshold(
     prefix_min_cdiam: &[f32],
@@ -1659,16 +1660,17 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             1.0
         };
         let threshold_cpd = scale * (g * m_factor);
-        let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
+        // The size it is judged at multiplies in once the rung is known.
         let (d2, r) = (q.d2[i], q.radius[i]);
         m.threshold_cpd[i] = threshold_cpd;
         m.k_cdiam[i] = if d2 <= r * r {
             f32::INFINITY
         } else {
-            threshold_cpd * size_deg
+            threshold_cpd
         };
     }
+    let mut judged_deg = [0.0f32; QUEUE];
     match c.layout {
         RowLayout::Uniform {
             stride,
@@ -1690,9 +1692,11 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 size_on,
                 fill_deg,
                 &mut m.rung[..n],
+                &mut judged_deg[..n],
             );
             for i in 0..n {
                 m.row[i] = q.row0[i] + (m.view[i] * rungs + m.rung[i]) * stride;
+                m.k_cdiam[i] *= judged_deg[i];
             }
             if stride == 4 {
                 count_rows::<4>(c.rows, &m.row[..n], &m.k_cdiam[..n], &mut m.lod[..n]);
@@ -1720,7 +1724,8 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 let profile = c.profiles[p as usize];
                 let boundaries = &c.ladders[profile.ladder as usize].boundaries_deg;
                 let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
-                m.rung[i] = boundaries.iter().map(|&b| (size_deg > b) as u32).sum();
+                (m.rung[i], judged_deg[i]) = rung_and_judged_size(boundaries, size_deg);
+                m.k_cdiam[i] *= judged_deg[i];
                 rungs[i] = boundaries.len() as u32 + 1;
                 m.row[i] = profile.start + m.rung[i] * profile.stride;
                 strides[i] = profile.stride;
@@ -1751,9 +1756,28 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     }
 }
 
-/// Each lane's rung of a size ladder: the number of `boundaries_deg` below
-/// its size on screen (`theta_deg`, or `fill_deg` with the size component
-/// off), one pass per boundary so that it vectorises.
+/// An object's rung of a size ladder, the number of `boundaries_deg`
+/// (ascending) below its size on screen `size_deg`, and the size it is
+/// judged at: the upper end of its rung's range (the boundary above it), or
+/// its own size on the bottom and top rungs (see [`crate::rows`]).
+#[inline(always)]
+fn rung_and_judged_size(boundaries_deg: &[f32], size_deg: f32) -> (u32, f32) {
+    let (mut rung, mut judged) = (0, f32::INFINITY);
+    for &b in boundaries_deg {
+        let above = size_deg > b;
+        rung += above as u32;
+        judged = if above {
+            judged
+        } else {
+            fastmath::min(judged, b)
+        };
+    }
+    let own = rung == 0 || judged == f32::INFINITY;
+    (rung, if own { size_deg } else { judged })
+}
+
+/// [`rung_and_judged_size`] for every lane (`theta_deg`, or `fill_deg` with
+/// the size component off), one pass per boundary so that it vectorises.
 #[inline(always)]
 fn rung_of(
     boundaries_deg: &[f32],
@@ -1761,14 +1785,26 @@ fn rung_of(
     size_on: bool,
     fill_deg: f32,
     rungs: &mut [u32],
+    judged_deg: &mut [f32],
 ) {
-    let n = theta_deg.len().min(rungs.len());
+    let n = theta_deg.len().min(rungs.len()).min(judged_deg.len());
     rungs[..n].fill(0);
+    judged_deg[..n].fill(f32::INFINITY);
+    let size = |i: usize| if size_on { theta_deg[i] } else { fill_deg };
     for &b in boundaries_deg {
         for i in 0..n {
-            let size_deg = if size_on { theta_deg[i] } else { fill_deg };
-            rungs[i] += (size_deg > b) as u32;
+            let above = size(i) > b;
+            rungs[i] += above as u32;
+            judged_deg[i] = if above {
+                judged_deg[i]
+            } else {
+                fastmath::min(judged_deg[i], b)
+            };
         }
+    }
+    for i in 0..n {
+        let own = rungs[i] == 0 || judged_deg[i] == f32::INFINITY;
+        judged_deg[i] = if own { size(i) } else { judged_deg[i] };
     }
 }
 
@@ -2052,15 +2088,21 @@ mod tests {
                 } else {
                     c.fill_deg
                 };
-                let k = if inside {
-                    f32::INFINITY
-                } else {
-                    threshold_cpd * size
-                };
                 let profile = sel.object_profiles[i] as usize;
                 let rows = sel.profile_rows[profile];
                 let ladder = &sel.ladders[rows.ladder as usize];
                 let rung = ladder.boundaries_deg.iter().filter(|&&b| size > b).count();
+                // Judged at the top of its rung's range, or its own size on
+                // the bottom and top rungs.
+                let judged = match ladder.boundaries_deg.get(rung) {
+                    Some(&b) if rung > 0 => b,
+                    _ => size,
+                };
+                let k = if inside {
+                    f32::INFINITY
+                } else {
+                    threshold_cpd * judged
+                };
                 let rungs = ladder.diameters_px.len();
                 let mut block = 0;
                 if s.viewpoint_rule == ViewpointRule::Nearest && rows.lookup != NO_LOOKUP {

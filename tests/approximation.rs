@@ -57,11 +57,33 @@ impl Oracle {
             .map(|v| Vec3::from_array(*v).as_dvec3())
             .collect();
         let ppd = f64::from(ppd);
-        let boundaries_deg = p
+        let boundaries_deg: Vec<f64> = p
             .rung_diameters_px
             .windows(2)
             .map(|w| (w[0] as f64 * w[1] as f64).sqrt() / ppd)
             .collect();
+        // Size never buys less detail: the critical acuity q / u over rungs
+        // (u the boundary above the rung) only falls, and the top rung's
+        // objects, judged at their own size, are held to the last one.
+        let mut rows: Vec<Vec<Vec<f64>>> = rows;
+        let n = p.transitions_per_view();
+        for view in &mut rows {
+            let mut acuity = vec![f64::INFINITY; n];
+            for (rung, row) in view.iter_mut().enumerate() {
+                // The boundary above the rung; the top rung is held to the
+                // last one.
+                let (upper, top) = match boundaries_deg.get(rung) {
+                    Some(&b) => (b, false),
+                    None => (*boundaries_deg.last().unwrap_or(&f64::INFINITY), true),
+                };
+                for (q, a) in row.iter_mut().zip(&mut acuity) {
+                    if !top {
+                        *a = a.min(*q / upper);
+                    }
+                    *q = q.min(*a * upper);
+                }
+            }
+        }
         Self {
             rows,
             views,
@@ -113,7 +135,14 @@ impl Oracle {
         } else {
             7.49 / (0.3 * e + 1.0).powi(2)
         };
-        let k = g * m * theta;
+        let rung = self.boundaries_deg.iter().filter(|&&b| theta > b).count();
+        // Judged at the top of the rung's range; at its own size on the
+        // bottom and top rungs.
+        let judged = match self.boundaries_deg.get(rung) {
+            Some(&b) if rung > 0 => b,
+            _ => theta,
+        };
+        let k = g * m * judged;
         let to_camera = rot.inverse() * (cam - center).normalize();
         let view = (0..self.views.len())
             .max_by(|&a, &b| {
@@ -122,7 +151,6 @@ impl Oracle {
                     .total_cmp(&self.views[b].dot(to_camera))
             })
             .unwrap();
-        let rung = self.boundaries_deg.iter().filter(|&&b| theta > b).count();
         let row = &self.rows[view][rung];
         let lod = row.iter().filter(|&&f| f > k).count();
         let margin = row

@@ -400,9 +400,9 @@ fn bad_arguments_exit_with_2() {
 }
 
 /// The real bunny (3674 triangles; 3928 keeps it as LOD 0), the paper's
-/// generated chain, 256 px, 18 viewpoints: coarser LODs remove larger
-/// features, so the finest transition's lowest unique frequency should be
-/// above the coarsest's on most viewpoints.
+/// generated chain, 256 px, 18 viewpoints: coarser LODs lack more, so the
+/// first transition's critical frequency should be above the last's on
+/// most viewpoints.
 #[test]
 fn bunny_critical_frequency_falls_from_finest_to_coarsest_transition() {
     let dir = temp_dir("bunny");

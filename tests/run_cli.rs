@@ -82,7 +82,7 @@ fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
             c[0].to_owned(),
             c[1].parse().unwrap(),
             c[5].parse().unwrap(),
-            c[11].parse().ok(),
+            c[12].parse().ok(),
         ));
     }
     let full: Vec<_> = rows.iter().filter(|r| r.0 == "full").collect();

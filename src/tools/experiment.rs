@@ -212,7 +212,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
     );
     let mut csv = String::from(
-        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod\n",
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod\n",
     );
     let jod_head = if fvvdp {
         format!(" {:>6} {:>10}", "JOD", "vs scr JOD")
@@ -220,8 +220,17 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         String::new()
     };
     println!(
-        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>10}{jod_head}",
-        "policy", "knob", "mean ms", "p95 ms", "tris/frm", "LOD", "FLIP", "FLIP p95", "vs screen"
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
+        "policy",
+        "knob",
+        "mean ms",
+        "p95 ms",
+        "tris/frm",
+        "LOD",
+        "sw/s",
+        "FLIP",
+        "FLIP p95",
+        "vs screen"
     );
     let text = |v: Option<f64>, f: &dyn Fn(f64) -> String, none: &str| v.map_or(none.into(), f);
     for s in &sums {
@@ -233,13 +242,14 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.6},{:.6},{},{},{}",
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
             s.p95_ms,
             s.triangles,
             s.mean_lod,
+            s.switches_per_s,
             s.flip_mean,
             s.flip_p95,
             text(ratio, &|r| format!("{r:.4}"), ""),
@@ -256,13 +266,14 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             String::new()
         };
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>8.4} {:>8.4} {:>10}{jod_cols}",
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>8.4} {:>8.4} {:>10}{jod_cols}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
             s.p95_ms,
             s.triangles,
             s.mean_lod,
+            s.switches_per_s,
             s.flip_mean,
             s.flip_p95,
             text(ratio, &|r| format!("{r:.2}x"), "-")

@@ -98,10 +98,9 @@ pub struct ProfileArgs {
     /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub profile_viewpoints: Option<u32>,
-    /// Feature-size statistic of profiles that must be made: `longest`
-    /// (conservative), `mean`, `shortest` or `thickness` (inscribed-disc
-    /// diameter: coarsens thin slivers) [default: the scene's `[profiles]`,
-    /// else longest].
+    /// Feature-size statistic of profiles that must be made: `thickness`
+    /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or
+    /// `shortest` [default: the scene's `[profiles]`, else thickness].
     #[arg(long, value_parser = super::run::parse_statistic)]
     pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that

@@ -26,9 +26,9 @@
 //!   2 for bad arguments (including a PATH that is not a readable scene or
 //!   OBJ file, or a scene file that does not parse).
 //! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
-//!   median over viewpoints of each transition's lowest unique frequency
-//!   (c/diam; a viewpoint where two LODs look the same counts as infinite,
-//!   shown as `none`), cached/analysed, seconds.
+//!   median over viewpoints of each transition's critical frequency at the
+//!   largest rung ([`median_critical_cdiam`]; c/diam, `none` where nothing
+//!   visible changes), cached/analysed, seconds.
 
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -84,13 +84,13 @@ pub struct PreprocessArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
     pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
-    /// and changed pixels [default: a scene's `[profiles]`, else 2.3].
+    /// [default: a scene's `[profiles]`, else 2.3].
     #[arg(long, value_parser = parse_threshold)]
     pub threshold: Option<f32>,
-    /// Feature-size statistic: `longest` (conservative), `shortest`, `mean`
-    /// or `thickness` (diameter of the largest inscribed disc: a thin
-    /// sliver is as fine as its width, however long) [default: a scene's
-    /// `[profiles]`, else longest].
+    /// Feature-size statistic: `thickness` (diameter of the largest
+    /// inscribed disc: a thin sliver is as fine as its width, however
+    /// long), `longest`, `shortest` or `mean` [default: a scene's
+    /// `[profiles]`, else thickness].
     #[arg(long, value_parser = super::run::parse_statistic)]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:

@@ -155,6 +155,8 @@ pub struct FrameRecord {
     pub drawn: u32,
     /// Mean LOD index of the drawn instances (0 = finest); NaN if none.
     pub mean_lod: f64,
+    /// Instances drawn this frame and the frame before at different LODs.
+    pub lod_switches: u32,
     /// The scale factor `s` used.
     pub scale: f32,
     /// The predictive scheduler's triangle budget, if any.
@@ -331,6 +333,8 @@ impl<'w> Player<'w> {
         let [w, h] = world.scene.display.resolution_px;
         let ppd = world.pixels_per_degree();
         let mut lods = std::mem::take(&mut self.lods);
+        // Each policy's choices of the frame before, to count LOD switches.
+        let mut before: Vec<Vec<Option<usize>>> = vec![Vec::new(); policies.len()];
         let n_pol = policies.len().max(1);
         // A sequence per distinct name (a repeated configuration is dumped
         // once), and full detail's even when it is not played.
@@ -367,6 +371,8 @@ impl<'w> Player<'w> {
                 }
                 let frame_s = start.elapsed().as_secs_f64();
                 runner.observe(frame_s, out.triangles);
+                let lod_switches = lod_switches(&before[p], &lods);
+                before[p].clone_from(&lods);
                 if let (Some(d), Some(g)) = (dump.as_mut(), gaze_px)
                     && dumped[p]
                 {
@@ -388,6 +394,7 @@ impl<'w> Player<'w> {
                     draw_calls: out.draw_calls,
                     drawn: drawn.len() as u32,
                     mean_lod,
+                    lod_switches,
                     scale: choice.scale,
                     triangle_budget: choice.triangle_budget,
                     flip_mean: None,
@@ -434,6 +441,15 @@ impl<'w> Player<'w> {
     }
 }
 
+/// Instances drawn in both frames whose LOD differs (`None`: culled).
+fn lod_switches(before: &[Option<usize>], now: &[Option<usize>]) -> u32 {
+    before
+        .iter()
+        .zip(now)
+        .filter(|(b, n)| b.is_some() && n.is_some() && b != n)
+        .count() as u32
+}
+
 /// Busy-waits until `until_s` seconds after `start`.
 fn spin(until_s: f64, start: Instant) {
     while start.elapsed().as_secs_f64() < until_s {
@@ -474,6 +490,9 @@ pub struct Summary {
     pub over_budget: f64,
     /// Mean scale factor `s`.
     pub mean_scale: f64,
+    /// LOD switches of drawn instances per second of simulated time
+    /// (popping); NaN for a single frame.
+    pub switches_per_s: f64,
     /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
     /// identical); `None` unless scored ([`attach_jod`]).
     pub jod: Option<f64>,
@@ -528,6 +547,18 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                     .count() as f64
                     / n,
                 mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
+                switches_per_s: {
+                    let span = match (r.frames.first(), r.frames.last()) {
+                        (Some(a), Some(b)) => b.t_s - a.t_s,
+                        _ => 0.0,
+                    };
+                    let total: u64 = r.frames.iter().map(|f| u64::from(f.lod_switches)).sum();
+                    if span > 0.0 {
+                        total as f64 / span
+                    } else {
+                        f64::NAN
+                    }
+                },
                 jod: None,
             }
         })
@@ -558,7 +589,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
+        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
         "policy",
         "mean ms",
         "p95 ms",
@@ -567,6 +598,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
         "speedup",
         "tri x",
         "LOD",
+        "sw/s",
         "FLIP",
         "FLIP p95",
         "over%",
@@ -588,7 +620,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
     for s in summaries {
         let _ = writeln!(
             t,
-            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>8} {:>8} {:>6.1} {:>5.2}{}",
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>6.1} {:>8} {:>8} {:>6.1} {:>5.2}{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -597,6 +629,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
             opt(s.speedup),
             opt(s.triangle_ratio),
             s.mean_lod,
+            s.switches_per_s,
             flip(s.flip_mean),
             flip(s.flip_p95),
             100.0 * s.over_budget,
@@ -610,14 +643,14 @@ pub fn format_table(summaries: &[Summary]) -> String {
 /// Writes the per-frame CSV.
 pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,scale,triangle_budget,flip_mean,flip_p95\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{:.5},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{}",
                 f.policy.name(),
                 f.frame,
                 f.t_s,
@@ -627,6 +660,7 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
                 f.draw_calls,
                 f.drawn,
                 f.mean_lod,
+                f.lod_switches,
                 f.scale,
                 o(f.triangle_budget.map(|b| b.to_string())),
                 o(f.flip_mean.map(|v| format!("{v:.6}"))),
@@ -640,19 +674,20 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// Writes the summary CSV.
 pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
-        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for s in summaries {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{},{},{:.6},{:.6},{:.4},{:.4},{}",
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
             s.triangles,
             s.draw_calls,
             s.mean_lod,
+            s.switches_per_s,
             o(s.speedup),
             o(s.triangle_ratio),
             s.flip_mean,
