@@ -296,12 +296,16 @@ impl Csf {
     }
 
     /// The effective contrast of a change of Michelson contrast `contrast`
-    /// on a masker of contrast `masker_contrast` (see the module docs): at
-    /// most `contrast`, 0 when it is at most `k` times the masker's (and for
-    /// `NaN`), non-decreasing in `contrast`, non-increasing in the masker's.
+    /// on a masker of contrast `masker_contrast` (both clamped into
+    /// `[0, 1]`; see the module docs): at most `contrast`, 0 when it is at
+    /// most `k` times the masker's (and for a `NaN` contrast; a `NaN`
+    /// masker counts as none), non-decreasing in `contrast`, non-increasing
+    /// in the masker's.
     pub fn masked_contrast(&self, contrast: f32, masker_contrast: f32) -> f32 {
-        let c = contrast.max(0.0);
-        let m = self.masking * masker_contrast.max(0.0);
+        // Michelson contrasts lie in [0, 1]; a `NaN` masker counts as none
+        // (the conservative reading).
+        let c = contrast.clamp(0.0, 1.0);
+        let m = self.masking * masker_contrast.max(0.0).min(1.0);
         // `NaN` in either gives 0 too.
         if c.partial_cmp(&m) != Some(std::cmp::Ordering::Greater) {
             return 0.0;

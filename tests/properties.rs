@@ -1,5 +1,6 @@
 //! Property tests over the whole input domain: no panic, no NaN out,
-//! monotone where the model is, continuous at its breakpoints.
+//! monotone where the model is (the CSF included), continuous at its
+//! breakpoints.
 
 mod common;
 
@@ -7,9 +8,11 @@ use acuity::acuity::{
     ECCENTRICITY_FLOOR_DEG, VELOCITY_CEILING_DEG_PER_S, VELOCITY_FLOOR_DEG_PER_S, acuity_cpd,
     eccentricity_factor, threshold_cpd, velocity_acuity_cpd,
 };
+use acuity::csf::Csf;
 use acuity::select::lod_for_threshold;
 use acuity::{
-    Camera, Components, Display, FrameInput, Gaze, ObjectDesc, Selector, SelectorSettings, Tracker,
+    Camera, Components, Display, FrameInput, Gaze, ObjectDesc, Observer, Photometry, Selector,
+    SelectorSettings, Tracker,
 };
 use common::four_lod_profile;
 use glam::{DVec3, Quat, Vec3};
@@ -72,6 +75,34 @@ proptest! {
         prop_assert!(lod_for_threshold(&prefix, t, theta + dtheta) >= base);
         prop_assert!(lod_for_threshold(&prefix, t + dt, theta) >= base);
         prop_assert!(base <= prefix.len());
+    }
+
+    #[test]
+    fn contrast_sensitivity_is_finite_and_monotone(
+        c in any_f32(), dc in 0f32..1.0, m in any_f32(), field in any_f32(),
+        sensitivity in prop_oneof![1e-3f32..1e3, Just(1.0f32)],
+        lum in prop_oneof![Just([0.0f32, 1.0]), (0f32..1.0, 0f32..1.0).prop_map(|(a, b)| [a.min(b), a.max(b)])],
+    ) {
+        let photometry = Photometry::default();
+        let csf = Csf::new(&photometry, &Observer { sensitivity, ..Default::default() }).unwrap();
+        let contrast = photometry.contrast(lum);
+        prop_assert!((0.0..1.0).contains(&contrast), "{contrast}");
+        let masked = csf.masked_contrast(c, m);
+        prop_assert!(masked.is_finite() && masked >= 0.0);
+        prop_assert!(masked <= 1.0 && (c.is_nan() || masked <= c.max(0.0)));
+        let for_field = csf.for_field(field);
+        let cut = for_field.cutoff_cpd(c);
+        prop_assert!(cut.is_finite() && cut >= 0.0, "{cut}");
+        // More contrast is visible to at least as high a frequency; less
+        // masking leaves at least as much.
+        if c.is_finite() {
+            prop_assert!(for_field.cutoff_cpd(c + dc) >= cut);
+            if m.is_finite() && m >= 0.0 {
+                prop_assert!(csf.masked_contrast(c, m + dc) <= masked);
+            }
+        }
+        let q = for_field.critical_cdiam(10.0, masked);
+        prop_assert!(q > 0.0 && !q.is_nan(), "{q}");
     }
 
     #[test]
