@@ -129,3 +129,25 @@ proptest! {
         }
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn saving_over_a_link_replaces_the_link_and_leaves_its_target_alone() {
+    let dir = temp_dir("link");
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "keep me").unwrap();
+    let path = dir.join("rock.acp");
+    let _ = std::fs::remove_file(&path);
+    std::os::unix::fs::symlink(&victim, &path).unwrap();
+    four_lod_profile(2).save(&path).unwrap();
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+    assert!(!std::fs::symlink_metadata(&path).unwrap().is_symlink());
+    assert_eq!(Profile::load(&path).unwrap(), four_lod_profile(2));
+    // No temporary file is left behind.
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}

@@ -131,6 +131,65 @@ fn unknown_policy_and_zero_frames_are_refused() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("unknown policy `fastest`"));
     let o = acuity(&["run", s.to_str().unwrap(), "--frames", "0", "--quiet"]);
     assert!(!o.status.success());
+    // A frame count that would need gigabytes is refused up front (it
+    // used to abort allocating), on the command line and in the scene.
+    for args in [
+        vec!["run", s.to_str().unwrap(), "--frames", "4294967295"],
+        vec![
+            "experiment",
+            "error",
+            "--scene",
+            s.to_str().unwrap(),
+            "--frames",
+            "4294967295",
+        ],
+    ] {
+        let o = acuity(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains("10000000"),
+            "{args:?}"
+        );
+    }
+    let huge = TINY.replace("frames = 4", "frames = 4294967295");
+    std::fs::write(dir.join("huge.toml"), huge).unwrap();
+    let o = acuity(&["run", dir.join("huge.toml").to_str().unwrap(), "--quiet"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("run.frames"));
+}
+
+#[test]
+fn a_positive_scale_too_small_for_f32_is_the_coarsest_not_full_detail() {
+    let dir = scratch("tiny_scale");
+    let s = dir.join("s.toml");
+    std::fs::write(
+        &s,
+        TINY.replace("frames = 4", "frames = 2\nscale_factor = 1e-46"),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = acuity(&[
+        "run",
+        s.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--policies",
+        "full,acuity_size",
+        "--cache-dir",
+        dir.join("cache").to_str().unwrap(),
+        "--profile-resolution",
+        "64",
+        "--profile-viewpoints",
+        "0",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let tris = |policy: &str| -> f64 {
+        let line = csv.lines().find(|l| l.starts_with(policy)).unwrap();
+        line.split(',').nth(3).unwrap().parse().unwrap()
+    };
+    assert!(tris("acuity_size") < tris("full"), "{csv}");
 }
 
 #[test]

@@ -299,7 +299,8 @@ impl Profile {
 
     /// Validates and writes the profile: JSON when the file name ends in
     /// `.json` (feature `json`), the binary form otherwise. The file is
-    /// written beside its destination and renamed into place, so a failed
+    /// written to a new file beside its destination (created exclusively,
+    /// so never through a planted link) and renamed into place, so a failed
     /// write never leaves a truncated profile behind.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
         let path = path.as_ref();
@@ -325,11 +326,26 @@ impl Profile {
             path: path.to_path_buf(),
             source,
         };
+        // A fresh file beside the destination, created exclusively (never
+        // through a link or over a file someone else made), then renamed
+        // into place; on failure it is removed.
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
+        tmp.push(format!(".{}-{n}.tmp", std::process::id()));
         let tmp = std::path::PathBuf::from(tmp);
-        std::fs::write(&tmp, &bytes).map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(io)
+        let mut file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(io)?;
+        let written = std::io::Write::write_all(&mut file, &bytes)
+            .and_then(|()| file.sync_all())
+            .and_then(|()| std::fs::rename(&tmp, path));
+        if written.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        written.map_err(io)
     }
 }
 

@@ -72,7 +72,7 @@ pub struct ErrorArgs {
     #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
     pub acuity_policies: Vec<String>,
     /// Frames per configuration, spread over the scene's path.
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
     pub frames: u32,
     /// FLIP on every n-th frame (>= 1).
     #[arg(long, default_value_t = 3)]
@@ -99,7 +99,7 @@ pub struct FramerateArgs {
     #[arg(long)]
     pub target_hz: Option<f64>,
     /// Frames, spread over the scene's path (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Extra load during the spikes, as a fraction of the frame budget.
     #[arg(long, default_value_t = 0.5)]
@@ -506,7 +506,7 @@ pub struct SpeedupArgs {
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
     /// Frames per flight, spread over the scene's path.
-    #[arg(long, default_value_t = 25)]
+    #[arg(long, default_value_t = 25, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
     pub frames: u32,
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept);
     /// the paper's 1280x1024 is slow on a software rasteriser.

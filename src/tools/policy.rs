@@ -137,8 +137,14 @@ impl PolicyRunner {
 
     /// Sets the global scale factor `s` (clamped into (0, 1]); for the
     /// reactive scheduler it is a cap.
-    pub fn set_scale(&mut self, scale: f32) {
-        self.scale = if scale > 0.0 { scale.min(1.0) } else { 1.0 };
+    pub fn set_scale(&mut self, scale: f64) {
+        // A positive `s` too small for `f32` is the smallest positive one,
+        // not 0 (which would read as "unset").
+        self.scale = if scale > 0.0 {
+            (scale as f32).clamp(f32::MIN_POSITIVE, 1.0)
+        } else {
+            1.0
+        };
     }
 
     /// The policy.

@@ -25,7 +25,7 @@ use super::frames::{FrameView, ProfileArgs, World, parse_resolution};
 use super::gaze::Gaze as GazePath;
 use super::plot::{LinePlot, Series, save_line_plot};
 use super::policy::{PolicyRunner, fit_cost_model};
-use super::scene::{Policy, Scene};
+use super::scene::{MAX_FRAMES, Policy, Scene};
 use crate::CostModel;
 
 /// Arguments of `acuity run`.
@@ -36,8 +36,9 @@ pub struct RunArgs {
     /// Output folder (default `out/<scene file name>/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Number of frames, spread over the same path (default: the scene's).
-    #[arg(long)]
+    /// Number of frames, spread over the same path, 1 to 10,000,000
+    /// (default: the scene's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Policies to run, comma-separated (default: the scene's).
     #[arg(long, value_delimiter = ',')]
@@ -119,6 +120,9 @@ impl PlaySettings {
         let run = &scene.run;
         let (frames, dt_s) = match frames {
             Some(0) => bail!("--frames must be at least 1"),
+            Some(n) if u64::from(n) > MAX_FRAMES => {
+                bail!("--frames {n} is more than {MAX_FRAMES}")
+            }
             Some(n) => (n, run.frame_dt_s * f64::from(run.frames) / f64::from(n)),
             None => (run.frames, run.frame_dt_s),
         };
@@ -315,7 +319,7 @@ impl<'w> Player<'w> {
                 let bias = if p == Policy::ScreenSize { knob } else { 1.0 };
                 let mut r = PolicyRunner::new(world, p, bias, cost)?;
                 if p != Policy::Full && p != Policy::ScreenSize {
-                    r.set_scale(knob as f32);
+                    r.set_scale(knob);
                 }
                 Ok(r)
             })

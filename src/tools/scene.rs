@@ -1407,6 +1407,12 @@ impl<'t> Ctx<'t> {
             (None, None) => 1.0 / target_hz,
         };
         let frames = match r.frames {
+            Some(n) if u64::from(n) > MAX_FRAMES => {
+                return Err(self.invalid(
+                    "run.frames",
+                    format!("{n} frames is more than {MAX_FRAMES}"),
+                ));
+            }
             Some(n) => n,
             None => {
                 let n = (duration_s / frame_dt_s).ceil().max(1.0);
