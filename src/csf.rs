@@ -305,7 +305,12 @@ impl Csf {
         // Michelson contrasts lie in [0, 1]; a `NaN` masker counts as none
         // (the conservative reading).
         let c = contrast.clamp(0.0, 1.0);
-        let m = self.masking * masker_contrast.max(0.0).min(1.0);
+        let masker = if masker_contrast.is_nan() {
+            0.0
+        } else {
+            masker_contrast.clamp(0.0, 1.0)
+        };
+        let m = self.masking * masker;
         // `NaN` in either gives 0 too.
         if c.partial_cmp(&m) != Some(std::cmp::Ordering::Greater) {
             return 0.0;
