@@ -25,6 +25,7 @@ pub fn settings_record(settings: &AnalysisSettings) -> std::collections::BTreeMa
         ("resolution_px", settings.resolution_px.to_string()),
         ("min_diameter_px", settings.min_diameter_px.to_string()),
         ("viewpoint_level", settings.viewpoint_level.to_string()),
+        ("grouping", format!("{:?}", settings.grouping)),
         ("threshold_delta_e", settings.threshold_delta_e.to_string()),
         ("feret_directions", settings.feret_directions.to_string()),
         ("msaa_samples", settings.msaa_samples.to_string()),
