@@ -3,10 +3,11 @@
 //!
 //! A feature of frequency `f` c/diam and contrast `c` (after masking,
 //! [`Csf::masked_contrast`], judged by the CSF of its own field size,
-//! [`Csf::for_field`]) on an object of
-//! angular size `theta` is invisible when `f / theta > s H(v, E) f_c(c) /
-//! H(0, 0)` ([`crate::csf`]), that is when its *critical frequency*
-//! `q = f H(0, 0) / f_c(c)` (c/diam) exceeds `k = s H(v, E) theta`. A
+//! [`Csf::for_field`]) on an object of angular size `theta` is invisible
+//! when `f / theta > s H(v, E) f_c(c) / H(0, 0)` ([`crate::csf`]), that is
+//! when its *critical frequency* `q = f H(0, 0) / f_c(c)` (c/diam) exceeds
+//! `k = s H(v, E) theta` (with `theta` the size the object is judged at,
+//! below). A
 //! transition is invisible when every one of its features is, so its
 //! critical frequency is the lowest of its features' (`inf` when it has
 //! none, or none that any contrast threshold lets through). Going from

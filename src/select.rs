@@ -7,7 +7,8 @@
 //! size ladder nearest the object's size on screen) are all invisible: a
 //! feature is invisible when its critical frequency in c/diam (its
 //! frequency scaled by how much contrast it has, [`crate::rows`]) exceeds
-//! `k = T * theta`. Prefix minima of the critical frequencies are compiled
+//! `k = T u`, `u` the angular size the object is judged at (its rung's
+//! upper end, or its own size `theta` on the bottom and top rungs). Prefix minima of the critical frequencies are compiled
 //! per viewpoint and rung when a profile is added (they depend on the
 //! display's photometry and the observer), in rows padded with `-inf` to
 //! whole groups of 4, which makes the choice a count of 4-wide
@@ -1212,8 +1213,6 @@ struct Modelled {
     k_cdiam: [f32; QUEUE],
     /// The viewpoint whose row applies.
     view: [u32; QUEUE],
-    /// The rung of the size ladder whose row applies.
-    rung: [u32; QUEUE],
     /// Start of the object's prefix-minimum row in the selector's rows.
     row: [u32; QUEUE],
     /// The chosen LOD.
@@ -1230,7 +1229,6 @@ const EMPTY_MODELLED: Modelled = Modelled {
     threshold_cpd: [0.0; QUEUE],
     k_cdiam: [0.0; QUEUE],
     view: [0; QUEUE],
-    rung: [0; QUEUE],
     row: [0; QUEUE],
     lod: [0; QUEUE],
 };
@@ -1670,6 +1668,8 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             threshold_cpd
         };
     }
+    // Each lane's rung of the size ladder and the size it is judged at.
+    let mut rung = [0u32; QUEUE];
     let mut judged_deg = [0.0f32; QUEUE];
     match c.layout {
         RowLayout::Uniform {
@@ -1691,11 +1691,11 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 &m.theta_deg[..n],
                 size_on,
                 fill_deg,
-                &mut m.rung[..n],
+                &mut rung[..n],
                 &mut judged_deg[..n],
             );
             for i in 0..n {
-                m.row[i] = q.row0[i] + (m.view[i] * rungs + m.rung[i]) * stride;
+                m.row[i] = q.row0[i] + (m.view[i] * rungs + rung[i]) * stride;
                 m.k_cdiam[i] *= judged_deg[i];
             }
             if stride == 4 {
@@ -1724,10 +1724,10 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                 let profile = c.profiles[p as usize];
                 let boundaries = &c.ladders[profile.ladder as usize].boundaries_deg;
                 let size_deg = if size_on { m.theta_deg[i] } else { fill_deg };
-                (m.rung[i], judged_deg[i]) = rung_and_judged_size(boundaries, size_deg);
+                (rung[i], judged_deg[i]) = rung_and_judged_size(boundaries, size_deg);
                 m.k_cdiam[i] *= judged_deg[i];
                 rungs[i] = boundaries.len() as u32 + 1;
-                m.row[i] = profile.start + m.rung[i] * profile.stride;
+                m.row[i] = profile.start + rung[i] * profile.stride;
                 strides[i] = profile.stride;
                 if NEAREST && profile.lookup != NO_LOOKUP {
                     lookups[i] = profile.lookup;
