@@ -41,8 +41,10 @@ pub fn velocity_acuity_cpd(velocity_deg_per_s: f32) -> f32 {
 
 /// `M(E)`: the fraction of foveal acuity left at an eccentricity in deg
 /// (Rovamo–Virsu as simplified by Reddy 2001, eq. 4). Domain: any `f32`;
-/// negative and `NaN` count as 0 (the fovea); beyond 80 deg, `M(80)`.
-/// Output in `[0.012, 1]`, non-increasing.
+/// symmetric about the gaze, so a negative eccentricity counts as its
+/// magnitude (`M(-10) = M(10)`); `NaN` counts as 0 (the fovea, the
+/// conservative answer); beyond 80 deg, `M(80)`. Output in `[0.012, 1]`,
+/// non-increasing in `|E|`.
 #[inline]
 pub fn eccentricity_factor(eccentricity_deg: f32) -> f32 {
     let e = sanitize_nonnegative(eccentricity_deg)
@@ -186,6 +188,21 @@ mod tests {
         }
         assert_eq!(velocity_acuity_cpd(f32::NAN), 60.0);
         assert_eq!(threshold_cpd(30.0, 12.5, f32::NAN), 12.5);
+    }
+
+    #[test]
+    fn negative_arguments_count_as_their_magnitude_and_nan_as_zero() {
+        for x in [1.0f32, 5.0, 10.0, 42.0, 200.0] {
+            assert_eq!(eccentricity_factor(-x), eccentricity_factor(x), "M({x})");
+            assert_eq!(velocity_acuity_cpd(-x), velocity_acuity_cpd(x), "G({x})");
+            assert_eq!(acuity_cpd(-x, -x), acuity_cpd(x, x), "H({x})");
+        }
+        assert!(eccentricity_factor(-10.0) < 1.0);
+        assert_eq!(eccentricity_factor(f32::NAN), 1.0);
+        assert_eq!(
+            eccentricity_factor(f32::NEG_INFINITY),
+            eccentricity_factor(80.0)
+        );
     }
 
     #[test]

@@ -85,5 +85,15 @@ impl Error {
     }
 }
 
+/// A number as error messages show it: plainly, or in exponent form when
+/// that would take more than a dozen digits (`1e-300`, not 300 zeros).
+pub(crate) fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e12).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// The runtime's result type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

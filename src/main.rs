@@ -33,11 +33,11 @@ enum Command {
     Experiment(acuity::tools::experiment::ExperimentArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
-        /// Retinal velocity, deg/s.
-        #[arg(long, default_value_t = 0.0)]
+        /// Retinal velocity, deg/s (finite, >= 0).
+        #[arg(long, default_value_t = 0.0, value_parser = parse_non_negative)]
         velocity: f32,
-        /// Eccentricity from the gaze, deg.
-        #[arg(long, default_value_t = 0.0)]
+        /// Eccentricity from the gaze, deg (finite, >= 0).
+        #[arg(long, default_value_t = 0.0, value_parser = parse_non_negative)]
         eccentricity: f32,
         /// Global scale factor s in (0, 1].
         #[arg(long, default_value_t = 1.0)]
@@ -72,6 +72,14 @@ impl DisplayArgs {
             (Some((h, v)), _, _) => Display::new(res, [h, v]),
             _ => Display::new(res, [53.1, 41.1]),
         }
+    }
+}
+
+/// A finite number >= 0 (a speed or an angle from the gaze).
+fn parse_non_negative(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number >= 0")),
     }
 }
 

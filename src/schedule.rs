@@ -10,11 +10,44 @@
 //!   budget from measured frames.
 //!
 //! Both are pure: they are given times, they read no clock.
+//!
+//! Frame rates: a target rate is accepted from [`MIN_TARGET_HZ`] to
+//! [`MAX_TARGET_HZ`] (a frame period of 1 s to 0.1 ms), so its period is a
+//! finite, normal `f32` and a triangle budget computed from it is
+//! meaningful.
+
+use crate::error::{Error, Result, number};
+
+/// Lowest accepted target frame rate, Hz (a frame period of 1 s).
+pub const MIN_TARGET_HZ: f32 = 1.0;
+/// Highest accepted target frame rate, Hz (a frame period of 0.1 ms).
+pub const MAX_TARGET_HZ: f32 = 10_000.0;
+/// Largest triangle budget [`CostModel::triangle_budget`] returns: a target
+/// with time for more (an infinite one included) gets this many.
+pub const MAX_TRIANGLE_BUDGET: u64 = u64::MAX / 2;
+
+/// Checks a target frame rate in Hz: from [`MIN_TARGET_HZ`] to
+/// [`MAX_TARGET_HZ`]; the error names `name` and the limits.
+pub fn check_target_hz(name: &'static str, rate_hz: f64) -> Result<()> {
+    if (f64::from(MIN_TARGET_HZ)..=f64::from(MAX_TARGET_HZ)).contains(&rate_hz) {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            name,
+            format!(
+                "{} Hz is outside {MIN_TARGET_HZ}..={MAX_TARGET_HZ} Hz",
+                number(rate_hz)
+            ),
+        ))
+    }
+}
 
 /// Tuning of the [`ReactiveScheduler`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReactiveSettings {
-    /// Target frame period, s (> 0), e.g. `1.0 / 90.0`.
+    /// Target frame period, s, e.g. `1.0 / 90.0`: 0.1 ms to 1 s (`1 /
+    /// MAX_TARGET_HZ` to `1 / MIN_TARGET_HZ`; [`ReactiveScheduler::new`]
+    /// clamps it there).
     pub target_frame_s: f32,
     /// Lowest `s`, in `(0, 1]`.
     pub min_scale: f32,
@@ -40,9 +73,12 @@ pub struct ReactiveSettings {
 }
 
 impl ReactiveSettings {
-    /// Defaults for a target frame rate in Hz (> 0).
-    pub fn for_rate_hz(rate_hz: f32) -> Self {
-        Self {
+    /// Defaults for a target frame rate in Hz, from [`MIN_TARGET_HZ`] to
+    /// [`MAX_TARGET_HZ`]; another rate (NaN included) is an
+    /// [`Error::InvalidParameter`] naming `rate_hz` and the limits.
+    pub fn for_rate_hz(rate_hz: f32) -> Result<Self> {
+        check_target_hz("rate_hz", f64::from(rate_hz))?;
+        Ok(Self {
             target_frame_s: 1.0 / rate_hz,
             min_scale: 0.05,
             gain: 0.5,
@@ -51,7 +87,7 @@ impl ReactiveSettings {
             max_raise: 1.25,
             spike_ratio: 2.0,
             clear_ratio: 0.5,
-        }
+        })
     }
 }
 
@@ -84,13 +120,16 @@ pub struct ReactiveScheduler {
 
 impl ReactiveScheduler {
     /// A controller starting at `s = 1`. Settings out of their domains are
-    /// clamped into them (a non-finite or non-positive target becomes
-    /// 1/60 s).
+    /// clamped into them: the target period into 0.1 ms to 1 s (`+inf`
+    /// becomes 1 s; NaN, zero or a negative period 1/60 s).
     pub fn new(settings: ReactiveSettings) -> Self {
         let mut s = settings;
-        if !(s.target_frame_s.is_finite() && s.target_frame_s > 0.0) {
-            s.target_frame_s = 1.0 / 60.0;
-        }
+        s.target_frame_s = if s.target_frame_s > 0.0 {
+            s.target_frame_s
+                .clamp(1.0 / MAX_TARGET_HZ, 1.0 / MIN_TARGET_HZ)
+        } else {
+            1.0 / 60.0
+        };
         s.min_scale = finite_or(s.min_scale, 0.05).clamp(1e-6, 1.0);
         s.gain = finite_or(s.gain, 0.5).clamp(0.01, 1.0);
         s.dead_band = finite_or(s.dead_band, 0.1).clamp(0.0, 0.9);
@@ -193,13 +232,22 @@ impl CostModel {
         self.per_triangle_s += a * (measured - self.per_triangle_s);
     }
 
-    /// The most triangles that fit in `target_frame_s`.
+    /// The most triangles that fit in `target_frame_s` seconds: 0 when the
+    /// target leaves no time after `fixed_s` (or is NaN), at most
+    /// [`MAX_TRIANGLE_BUDGET`] (a target of `+inf` included). Never
+    /// decreases as the target grows.
     pub fn triangle_budget(&self, target_frame_s: f32) -> u64 {
-        let spare = finite_or(target_frame_s, 0.0) - self.fixed_s;
-        if spare <= 0.0 {
+        let spare = f64::from(target_frame_s) - f64::from(self.fixed_s);
+        if spare.is_nan() || spare <= 0.0 {
             return 0;
         }
-        (spare / self.per_triangle_s).min(u64::MAX as f32 / 2.0) as u64
+        let per_triangle = f64::from(self.per_triangle_s.max(1e-15));
+        let budget = spare / per_triangle;
+        if budget >= MAX_TRIANGLE_BUDGET as f64 {
+            MAX_TRIANGLE_BUDGET
+        } else {
+            budget as u64
+        }
     }
 }
 
@@ -221,5 +269,43 @@ mod tests {
         m.observe(0.01, 0);
         assert!((m.per_triangle_s / 1e-8 - 1.0).abs() < 1e-3);
         assert_eq!(m.triangle_budget(0.001), 0);
+    }
+
+    #[test]
+    fn an_unbounded_target_gets_the_largest_budget_not_zero() {
+        let m = CostModel::new(0.002, 1e-8);
+        // 1 / 1e-40 Hz overflows f32 to +inf; it used to give a budget of 0.
+        let inf = 1.0 / 1e-40_f32;
+        assert_eq!(m.triangle_budget(inf), MAX_TRIANGLE_BUDGET);
+        assert_eq!(m.triangle_budget(f32::MAX), MAX_TRIANGLE_BUDGET);
+        assert_eq!(m.triangle_budget(f32::NAN), 0);
+        let mut last = 0;
+        for t in [0.0, 0.003, 0.1, 1.0, 1e6, 1e30, f32::MAX, f32::INFINITY] {
+            let b = m.triangle_budget(t);
+            assert!(b >= last, "{t} s: {b} < {last}");
+            last = b;
+        }
+    }
+
+    #[test]
+    fn target_rates_outside_the_limits_are_refused_by_name() {
+        for hz in [0.0, 1e-40, 0.5, 10_001.0, f32::INFINITY, f32::NAN, -60.0] {
+            let e = ReactiveSettings::for_rate_hz(hz).unwrap_err().to_string();
+            assert!(e.contains("rate_hz") && e.contains("10000"), "{hz}: {e}");
+        }
+        for hz in [MIN_TARGET_HZ, 90.0, MAX_TARGET_HZ] {
+            assert!(ReactiveSettings::for_rate_hz(hz).is_ok(), "{hz}");
+        }
+    }
+
+    #[test]
+    fn an_infinite_target_period_is_the_longest_accepted_not_one_sixtieth() {
+        let mut settings = ReactiveSettings::for_rate_hz(60.0).unwrap();
+        settings.target_frame_s = f32::INFINITY;
+        let sched = ReactiveScheduler::new(settings);
+        assert_eq!(sched.settings().target_frame_s, 1.0 / MIN_TARGET_HZ);
+        settings.target_frame_s = f32::NAN;
+        let sched = ReactiveScheduler::new(settings);
+        assert_eq!(sched.settings().target_frame_s, 1.0 / 60.0);
     }
 }

@@ -151,3 +151,36 @@ fn saving_over_a_link_replaces_the_link_and_leaves_its_target_alone() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+#[cfg(unix)]
+#[test]
+fn a_device_fifo_or_folder_is_refused_without_reading_or_waiting() {
+    let dir = temp_dir("special");
+    let fifo = dir.join("fifo.acp");
+    let _ = std::fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let zero = dir.join("zero.acp");
+    let _ = std::fs::remove_file(&zero);
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let folder = dir.join("folder.acp");
+    std::fs::create_dir_all(&folder).unwrap();
+    for path in [fifo, zero, folder, "/dev/zero".into()] {
+        // On a thread, so a load that blocks fails the test instead of
+        // hanging it.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let p = path.clone();
+        std::thread::spawn(move || {
+            tx.send(Profile::load(&p).map(|_| ()).map_err(|e| e.to_string()))
+        });
+        let got = rx
+            .recv_timeout(std::time::Duration::from_secs(10))
+            .unwrap_or_else(|_| panic!("{}: still reading after 10 s", path.display()));
+        let e = got.unwrap_err();
+        assert!(e.contains("not a regular file"), "{}: {e}", path.display());
+        assert_eq!(e.matches("regular").count(), 1, "{e}");
+    }
+}

@@ -159,6 +159,172 @@ fn unknown_policy_and_zero_frames_are_refused() {
 }
 
 #[test]
+fn out_of_range_arguments_exit_2_with_one_line_naming_the_limit() {
+    let cases: [(&[&str], &str); 8] = [
+        (&["acuity", "--velocity", "nan"], "--velocity"),
+        (&["acuity", "--velocity=-1"], "--velocity"),
+        (&["acuity", "--eccentricity=-10"], "--eccentricity"),
+        (&["acuity", "--eccentricity", "inf"], "--eccentricity"),
+        (&["acuity", "--scale", "nan"], "scale"),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--spike-load",
+                "1e6",
+            ],
+            "0..=10",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--target-hz",
+                "1e-300",
+            ],
+            "10000",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--target-hz",
+                "1e-40",
+            ],
+            "10000",
+        ),
+    ];
+    for (args, says) in cases {
+        let o = acuity(args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
+    let o = acuity(&["acuity", "--velocity", "10", "--eccentricity", "10"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn names_sharing_a_profile_file_are_refused_as_by_preprocess() {
+    let dir = scratch("same_file");
+    let scene = TINY.replace(
+        "[camera]",
+        "[[objects]]\nname = \"a b\"\nprocedural = { kind = \"rock\", triangles = [80, 20] }\n\n\
+         [[objects]]\nname = \"a_b\"\nprocedural = { kind = \"rock\", triangles = [80, 20] }\n\n[camera]",
+    );
+    let s = dir.join("s.toml");
+    std::fs::write(&s, scene).unwrap();
+    let cache = dir.join("cache");
+    for command in ["run", "preprocess"] {
+        let mut args = vec![command, s.to_str().unwrap()];
+        args.extend(match command {
+            "run" => ["--cache-dir", cache.to_str().unwrap(), "--quiet"],
+            _ => ["--out", cache.to_str().unwrap(), "--force"],
+        });
+        let o = acuity(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{command}: {stderr}");
+        assert!(
+            stderr.contains("objects `a b` and `a_b` would share the profile file"),
+            "{command}: {stderr}"
+        );
+    }
+    assert!(!cache.join("a_b.acp").exists());
+}
+
+/// Runs `acuity` and fails the test if it has not finished in `limit_s`.
+fn acuity_within(args: &[&str], limit_s: u64) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_acuity"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run acuity");
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() > limit_s {
+            let _ = child.kill();
+            panic!("{args:?} still running after {limit_s} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[cfg(unix)]
+#[test]
+fn unusable_cached_profiles_are_replaced_with_a_warning_and_io_errors_print_once() {
+    let dir = scratch("bad_cache");
+    let objects = ["corrupt", "fifo", "device", "folder"]
+        .map(|name| {
+            format!(
+                "[[objects]]\nname = \"{name}\"\nprocedural = {{ kind = \"rock\", triangles = [80, 20] }}\n"
+            )
+        })
+        .concat();
+    let scene = TINY.replace(
+        "[[objects]]\nname = \"rocks\"\nprocedural = { kind = \"rock\", triangles = [800, 200, 60] }\n\
+         copies = { count = 12, seed = 3, volume_min = [-4.0, -1.0, -20.0], volume_max = [4.0, 1.0, -3.0], random_rotation = true, scale = 0.5 }\n",
+        &objects,
+    );
+    assert_ne!(scene, TINY);
+    let s = dir.join("s.toml");
+    std::fs::write(&s, scene).unwrap();
+    let cache = dir.join("cache");
+    std::fs::create_dir_all(cache.join("folder.acp")).unwrap();
+    std::fs::write(cache.join("corrupt.acp"), b"GARBAGE").unwrap();
+    std::os::unix::fs::symlink("/dev/zero", cache.join("device.acp")).unwrap();
+    let made = Command::new("mkfifo")
+        .arg(cache.join("fifo.acp"))
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let o = acuity_within(
+        &[
+            "run",
+            s.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+            "--cache-dir",
+            cache.to_str().unwrap(),
+            "--profile-resolution",
+            "64",
+            "--profile-viewpoints",
+            "0",
+            "--quiet",
+        ],
+        300,
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    for name in ["corrupt", "fifo", "device", "folder"] {
+        let warning = stderr
+            .lines()
+            .find(|l| l.starts_with("warning: ") && l.contains(&format!("{name}.acp")));
+        assert!(warning.is_some(), "no warning for {name}: {stderr}");
+    }
+    assert!(stderr.contains("is corrupt"), "{stderr}");
+    // The three files replaced were regular files before the folder's
+    // rename failed.
+    for name in ["corrupt", "fifo", "device"] {
+        let p = cache.join(format!("{name}.acp"));
+        assert!(std::fs::symlink_metadata(&p).unwrap().is_file(), "{name}");
+        acuity::Profile::load(&p).unwrap();
+    }
+    let error = stderr.lines().find(|l| l.starts_with("error: ")).unwrap();
+    assert!(error.contains("folder.acp"), "{stderr}");
+    let cause = std::io::Error::from(std::io::ErrorKind::IsADirectory).to_string();
+    assert_eq!(error.matches("os error").count(), 1, "{error} ({cause})");
+}
+
+#[test]
 fn a_positive_scale_too_small_for_f32_is_the_coarsest_not_full_detail() {
     let dir = scratch("tiny_scale");
     let s = dir.join("s.toml");

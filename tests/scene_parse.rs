@@ -258,3 +258,124 @@ fn deeply_nested_values_do_not_overflow_the_stack() {
         }
     }
 }
+
+#[test]
+fn values_beyond_a_limit_are_refused_with_the_limit() {
+    let base = r#"
+[display]
+resolution = [640, 480]
+fov_deg = [43.6, 33.4]
+
+[[objects]]
+name = "rocks"
+procedural = { kind = "rock", triangles = [320, 80] }
+
+[camera]
+duration_s = 2.0
+forward_speed_m_per_s = 1.0
+
+[run]
+frames = 10
+"#;
+    let cases = [
+        (
+            "frames = 10",
+            "frames = 10\ntarget_hz = 1e-40",
+            "run.target_hz",
+            "10000",
+        ),
+        (
+            "frames = 10",
+            "frames = 10\ntarget_hz = 1e300",
+            "run.target_hz",
+            "10000",
+        ),
+        ("frames = 10", "dt_s = 1e-300", "run.dt_s", "0.0001"),
+        (
+            "[320, 80]",
+            "[4000000000, 200, 50]",
+            "objects[0].procedural.triangles[0]",
+            "10000000",
+        ),
+        (
+            "[320, 80] }",
+            "[5000000, 80] }\ncopies = { count = 1000, volume_min = [0, 0, -9], volume_max = [1, 1, -8] }",
+            "objects[0].copies.count",
+            "1000000000",
+        ),
+        (
+            "frames = 10",
+            "frames = 10\n[gaze]\ntracker = \"head\"\neye_error_deg = 5",
+            "gaze.eye_error_deg",
+            "tracker = \"eye\"",
+        ),
+    ];
+    for (from, to, field, limit) in cases {
+        let text = base.replace(from, to);
+        let e = Scene::parse(&text, "limits.toml").expect_err(to);
+        let shown = e.to_string();
+        assert_eq!(e.field(), Some(field), "{shown}");
+        assert!(shown.contains(limit), "{to}: {shown}");
+    }
+    // At the limits, and the eye tracker with its error, parse.
+    for (from, to) in [
+        ("frames = 10", "frames = 10\ntarget_hz = 1"),
+        ("frames = 10", "frames = 10\ntarget_hz = 10000"),
+        ("frames = 10", "dt_s = 1"),
+        ("[320, 80]", "[10000000, 80]"),
+        (
+            "frames = 10",
+            "frames = 10\n[gaze]\ntracker = \"eye\"\neye_error_deg = 2",
+        ),
+    ] {
+        let text = base.replace(from, to);
+        Scene::parse(&text, "limits.toml").unwrap_or_else(|e| panic!("{to}: {e}"));
+    }
+}
+
+#[test]
+fn arrays_of_the_wrong_length_name_their_field() {
+    let base = r#"
+[display]
+resolution = [640, 480]
+fov_deg = [43.6, 33.4]
+
+[[objects]]
+name = "rocks"
+procedural = { kind = "rock", triangles = [320, 80] }
+transform = { position = [0, 0, -5], rotation_deg = [30, 0, 0] }
+
+[camera]
+duration_s = 2.0
+forward_speed_m_per_s = 1.0
+start = { position = [0, 1, 0] }
+
+[gaze]
+mode = "fixed"
+point_deg = [1, 2]
+"#;
+    Scene::parse(base, "arrays.toml").unwrap_or_else(|e| panic!("{e}"));
+    let cases = [
+        ("[640, 480]", "[64, 48, \"junk\"]", "display.resolution"),
+        ("[43.6, 33.4]", "[43.6, 33.4, 20]", "display.fov_deg"),
+        (
+            "[0, 0, -5]",
+            "[0, 0, -5, 99]",
+            "objects[0].transform.position",
+        ),
+        (
+            "[30, 0, 0]",
+            "[30, 0, 0, 45]",
+            "objects[0].transform.rotation_deg",
+        ),
+        ("[0, 1, 0]", "[0, 1, 0, 0]", "camera.start.position"),
+        ("[1, 2]", "[1, 2, 3]", "gaze.point_deg"),
+        ("[1, 2]", "[1]", "gaze.point_deg"),
+    ];
+    for (from, to, field) in cases {
+        let e = Scene::parse(&base.replace(from, to), "arrays.toml").expect_err(to);
+        let shown = e.to_string();
+        assert_eq!(e.field(), Some(field), "{to}: {shown}");
+        assert!(shown.contains("exactly"), "{to}: {shown}");
+    }
+}

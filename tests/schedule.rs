@@ -75,7 +75,7 @@ const SPIKE_RECOVERY_FRAMES: usize = 10;
 fn recovers_from_a_single_10x_spike_within_10_frames_and_one_reversal() {
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0));
+        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
         // Settle under a load that needs some reduction.
         let load = 1.5;
         for _ in 0..300 {
@@ -115,7 +115,7 @@ fn recovers_from_a_single_10x_spike_within_10_frames_and_one_reversal() {
 fn sustained_double_load_settles_without_a_repeating_swing() {
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0));
+        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
         let mut trace = Vec::new();
         for _ in 0..600 {
             let t = plant.frame_time(sched.scale(), 2.0);
@@ -148,7 +148,7 @@ fn sustained_double_load_settles_without_a_repeating_swing() {
 #[test]
 fn invalid_frame_times_change_nothing() {
     let plant = Plant::new(1);
-    let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0));
+    let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
     for _ in 0..50 {
         let t = plant.frame_time(sched.scale(), 2.0);
         sched.update(t);
@@ -162,7 +162,7 @@ fn invalid_frame_times_change_nothing() {
 
 #[test]
 fn huge_frame_times_are_capped() {
-    let settings = ReactiveSettings::for_rate_hz(90.0);
+    let settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
     let mut sched = ReactiveScheduler::new(settings);
     let s = sched.update(1e30);
     let floor = settings.max_ratio.powf(-settings.gain);
@@ -177,7 +177,7 @@ proptest! {
 
     #[test]
     fn scale_stays_within_floor_and_one(times in proptest::collection::vec(prop_oneof![0f32..1.0, proptest::num::f32::ANY], 1..200), floor in 0.001f32..1.0) {
-        let mut settings = ReactiveSettings::for_rate_hz(60.0);
+        let mut settings = ReactiveSettings::for_rate_hz(60.0).unwrap();
         settings.min_scale = floor;
         let mut sched = ReactiveScheduler::new(settings);
         for t in times {

@@ -47,6 +47,8 @@ pub const MAX_VIEWPOINTS: usize = 65_535;
 pub const MAX_RUNGS: usize = 32;
 /// Most features stored for one transition at one viewpoint and rung.
 pub const MAX_FEATURES: usize = 65_535;
+/// Largest profile file [`Profile::load`] reads, bytes (1 GiB).
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// Everything the offline pass measured for one object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -268,13 +270,44 @@ impl Profile {
     }
 
     /// Reads a profile file, binary or JSON (told apart by the binary
-    /// magic bytes), and validates it. JSON needs the `json` feature.
+    /// magic bytes), and validates it. JSON needs the `json` feature. Only
+    /// a regular file (or a link to one) of at most [`MAX_FILE_BYTES`] is
+    /// read: a device, a FIFO or a larger file is an [`Error::Io`] of kind
+    /// `InvalidInput`, returned without reading (or waiting for) it.
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
+        use std::io::{ErrorKind, Read};
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        let io = |source| Error::Io {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        let refuse = |why: String| io(std::io::Error::new(ErrorKind::InvalidInput, why));
+        let check = |meta: std::fs::Metadata| {
+            if !meta.is_file() {
+                Err(refuse("not a regular file".into()))
+            } else if meta.len() > MAX_FILE_BYTES {
+                Err(refuse(format!(
+                    "{} bytes is more than a profile's {MAX_FILE_BYTES}",
+                    meta.len()
+                )))
+            } else {
+                Ok(meta.len())
+            }
+        };
+        // Checked before opening (opening a FIFO waits for a writer) and
+        // again on the open file, in case the path changed in between.
+        check(std::fs::metadata(path).map_err(io)?)?;
+        let file = std::fs::File::open(path).map_err(io)?;
+        let len = check(file.metadata().map_err(io)?)?;
+        let mut bytes = Vec::with_capacity(len as usize);
+        file.take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(refuse(format!(
+                "more than a profile's {MAX_FILE_BYTES} bytes"
+            )));
+        }
         Self::from_bytes(&bytes).map_err(|e| e.with_path(path))
     }
 

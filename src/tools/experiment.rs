@@ -15,10 +15,11 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, bail};
+use anyhow::{Context, anyhow, bail};
 
 use super::dump::{Metric, check_fvvdp, score_fvvdp};
 use super::frames::{ProfileArgs, World, parse_resolution};
+use super::limits;
 use super::placement::PlacementSpec;
 use super::plot::{LinePlot, Series, save_line_plot};
 use super::run::{
@@ -94,15 +95,17 @@ pub struct FramerateArgs {
     /// The scene.
     #[arg(long, default_value = "scenes/vr_sweep.toml")]
     pub scene: PathBuf,
-    /// Target frame rate, Hz (default: the scene's). A software rasteriser
-    /// cannot reach 90 Hz on this scene; pick a rate it can nearly hold.
-    #[arg(long)]
+    /// Target frame rate, Hz, 1 to 10,000 (default: the scene's). A
+    /// software rasteriser cannot reach 90 Hz on this scene; pick a rate it
+    /// can nearly hold.
+    #[arg(long, value_parser = super::limits::parse_target_hz)]
     pub target_hz: Option<f64>,
     /// Frames, spread over the scene's path (default: the scene's).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
     pub frames: Option<u32>,
-    /// Extra load during the spikes, as a fraction of the frame budget.
-    #[arg(long, default_value_t = 0.5)]
+    /// Extra load during the spikes, as a fraction of the frame budget,
+    /// 0 to 10.
+    #[arg(long, default_value_t = 0.5, value_parser = super::limits::parse_spike_load)]
     pub spike_load: f64,
     /// Options every experiment shares.
     #[command(flatten)]
@@ -405,14 +408,12 @@ pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> 
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
 /// `framerate_time.png` and `framerate_scale.png`; returns the summaries.
 pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
-    if !(args.spike_load.is_finite() && args.spike_load >= 0.0) {
-        bail!("--spike-load must be >= 0");
+    limits::check_spike_load(args.spike_load).map_err(|e| anyhow!("--spike-load: {e}"))?;
+    if let Some(hz) = args.target_hz {
+        limits::check_target_hz(hz).map_err(|e| anyhow!("--target-hz: {e}"))?;
     }
     let mut world = args.common.load(&args.scene)?;
     if let Some(hz) = args.target_hz {
-        if !(hz.is_finite() && hz > 0.0) {
-            bail!("--target-hz must be > 0");
-        }
         world.scene.run.target_hz = hz;
     }
     let mut settings = PlaySettings::from_scene(&world.scene, args.frames)?;
@@ -777,7 +778,7 @@ pub fn command(args: &ExperimentArgs) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", super::error_line(&e));
             ExitCode::from(2)
         }
     }

@@ -17,9 +17,10 @@ use acuity_preprocess::render::{
 use anyhow::Context;
 use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 
+use super::limits::check_scene_triangles;
 use super::placement::Placement;
 use super::preprocess::object_source;
-use super::profiles::{CacheOutcome, ensure_profile};
+use super::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile};
 use super::scene::{ProfileSpec, Scene};
 use crate::{Camera, Display, Gaze, Profile, Tracker};
 
@@ -180,6 +181,18 @@ fn instances_of(scene: &Scene, objects: &[WorldObject]) -> Vec<Instance> {
     instances
 }
 
+/// Checks the scene's triangles at full detail ([`check_scene_triangles`])
+/// given the LOD 0 triangles of its first objects.
+fn check_full_detail(scene: &Scene, lod0_triangles: &[u32]) -> anyhow::Result<()> {
+    let counts = scene
+        .objects
+        .iter()
+        .zip(lod0_triangles)
+        .map(|(o, &t)| (o.name.as_str(), u64::from(t), o.placement.count() as u64));
+    check_scene_triangles(counts)
+        .map_err(|(_, reason)| anyhow::anyhow!("{}: {reason}", scene.source_path.display()))
+}
+
 /// The camera and gaze of one frame.
 #[derive(Debug, Clone, Copy)]
 pub struct FrameView {
@@ -226,12 +239,22 @@ impl World {
         let display = Display::new([w, h], [fh as f32, fv as f32])
             .and_then(|d| d.with_photometry(scene.display.photometry()?))
             .with_context(|| format!("{}: display", scene.source_path.display()))?;
+        let sources = scene
+            .objects
+            .iter()
+            .map(|o| {
+                object_source(&o.name, &o.source)
+                    .map_err(|reason| anyhow::anyhow!("object `{}`: {reason}", o.name))
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        check_distinct_cache_paths(&cache_dir, &sources).map_err(anyhow::Error::msg)?;
         let started = Instant::now();
-        let mut objects = Vec::with_capacity(scene.objects.len());
-        for spec in &scene.objects {
+        // Every object's LODs first, so the scene's size at full detail is
+        // checked before anything is analysed.
+        let mut uploaded = Vec::with_capacity(scene.objects.len());
+        let mut full_detail = Vec::with_capacity(scene.objects.len());
+        for (spec, source) in scene.objects.iter().zip(&sources) {
             let what = || format!("object `{}`", spec.name);
-            let source = object_source(&spec.name, &spec.source)
-                .map_err(|reason| anyhow::anyhow!("{}: {reason}", what()))?;
             let (lods, warnings) = source
                 .load_lods()
                 .with_context(|| format!("{}: loading its LODs", what()))?;
@@ -240,21 +263,29 @@ impl World {
                     eprintln!("warning: object `{}`: {w}", spec.name);
                 }
             }
+            let lod_triangles: Vec<u32> = lods.iter().map(|m| m.triangle_count() as u32).collect();
+            full_detail.push(lod_triangles[0]);
+            check_full_detail(&scene, &full_detail)?;
             let meshes = lods
                 .iter()
                 .map(|m| renderer.upload_mesh(m))
                 .collect::<Result<Vec<_>, _>>()
                 .with_context(|| format!("{}: uploading its LODs", what()))?;
-            let lod_triangles = lods.iter().map(|m| m.triangle_count() as u32).collect();
             let (c, _) = lods[0].bounding_sphere();
+            uploaded.push((meshes, lod_triangles, c));
+        }
+        let mut objects = Vec::with_capacity(scene.objects.len());
+        for ((spec, source), (meshes, lod_triangles, c)) in
+            scene.objects.iter().zip(&sources).zip(uploaded)
+        {
             let (profile, cache) = ensure_profile(
                 &renderer,
-                &source,
+                source,
                 &options.settings,
                 &cache_dir,
                 &RunOptions::default(),
             )
-            .with_context(|| format!("{}: making its profile", what()))?;
+            .with_context(|| format!("object `{}`: making its profile", spec.name))?;
             if options.verbose {
                 eprintln!(
                     "object `{}`: {} LODs, profile {}",
@@ -299,6 +330,8 @@ impl World {
         if !same {
             anyhow::bail!("replace_placements: the scene's objects differ from the loaded ones");
         }
+        let full_detail: Vec<u32> = self.objects.iter().map(|o| o.lod_triangles[0]).collect();
+        check_full_detail(&scene, &full_detail)?;
         self.instances = instances_of(&scene, &self.objects);
         self.scene = scene;
         Ok(())
@@ -320,11 +353,12 @@ impl World {
     pub fn tracker(&self) -> Tracker {
         use super::gaze::Tracker as T;
         let g = &self.scene.gaze;
-        let margin = g.tracker_error_deg as f32;
         match g.tracker {
-            _ if margin <= 0.0 => Tracker::None,
-            T::Head if margin == Tracker::HEAD_MARGIN_DEG => Tracker::Head,
-            _ => Tracker::Eye { error_deg: margin },
+            T::None => Tracker::None,
+            T::Head => Tracker::Head,
+            T::Eye => Tracker::Eye {
+                error_deg: g.tracker_error_deg as f32,
+            },
         }
     }
 

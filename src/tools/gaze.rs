@@ -36,6 +36,15 @@ pub enum Tracker {
 }
 
 impl Tracker {
+    /// The name used in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tracker::None => "none",
+            Tracker::Head => "head",
+            Tracker::Eye => "eye",
+        }
+    }
+
     /// The default tracker error margin subtracted from eccentricity, degrees.
     pub fn default_error_deg(self) -> f64 {
         match self {
@@ -86,8 +95,9 @@ pub struct GazeSpec {
     pub mode: GazeMode,
     /// The tracker.
     pub tracker: Tracker,
-    /// Tracker error margin subtracted from eccentricity, degrees (>= 0);
-    /// [`Tracker::default_error_deg`] unless the scene sets `eye_error_deg`.
+    /// Tracker error margin subtracted from eccentricity, degrees (>= 0):
+    /// [`Tracker::default_error_deg`], or the scene's `eye_error_deg` (which
+    /// only the eye tracker takes).
     pub tracker_error_deg: f64,
 }
 

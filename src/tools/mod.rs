@@ -5,7 +5,8 @@
 //! `tools` feature (on by default).
 //!
 //! - [`scene`]: the TOML scene format, [`scene::Scene::load`] and its one
-//!   error type [`scene::SceneError`].
+//!   error type [`scene::SceneError`]; [`limits`]: the largest counts,
+//!   sizes and rates it and the command line accept.
 //! - [`path`]: the evaluated camera path, [`path::CameraPath::sample`].
 //! - [`gaze`]: the evaluated gaze, [`gaze::Gaze::sample`].
 //! - [`placement`]: concrete object placements, including seeded copies.
@@ -16,11 +17,13 @@
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
 
+mod arrays;
 pub mod dump;
 pub mod experiment;
 pub mod flip;
 pub mod frames;
 pub mod gaze;
+pub mod limits;
 pub mod path;
 pub mod placement;
 pub mod plot;
@@ -31,3 +34,41 @@ pub mod run;
 pub mod scene;
 pub mod screen_size;
 pub mod thresholds;
+
+/// An error and its causes on one line, `error: cause: ...`, as the
+/// commands print them. A cause whose text ends its parent's is left out:
+/// some errors (I/O errors with their file) print their cause and also
+/// return it as their source.
+pub fn error_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.ends_with(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_io_error_prints_once() {
+        let io = std::io::Error::from(std::io::ErrorKind::IsADirectory);
+        let text = io.to_string();
+        let e = anyhow::Error::new(crate::Error::Io {
+            path: "cache/rock.acp".into(),
+            source: io,
+        })
+        .context("object `rock`");
+        let line = error_line(&e);
+        assert_eq!(line, format!("object `rock`: cache/rock.acp: {text}"));
+        assert_eq!(format!("{e:#}").matches(&text).count(), 2, "{e:#}");
+    }
+}

@@ -8,6 +8,7 @@
 //! frame-time differences come from LOD choices alone.
 
 use super::frames::{FrameView, World};
+use super::limits::MIN_SCALE;
 use super::scene::Policy;
 use super::screen_size::{ScreenSizeChoice, ScreenSizeLod, relative_height};
 use crate::{
@@ -118,10 +119,17 @@ impl PolicyRunner {
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;
+        if matches!(policy, Policy::AcuityReactive | Policy::AcuityPredictive) {
+            crate::schedule::check_target_hz("run.target_hz", run.target_hz)?;
+        }
         let target_hz = run.target_hz as f32;
-        let scale = (run.scale_factor as f32).clamp(f32::MIN_POSITIVE, 1.0);
-        let reactive = (policy == Policy::AcuityReactive)
-            .then(|| ReactiveScheduler::new(ReactiveSettings::for_rate_hz(target_hz)));
+        let scale = (run.scale_factor as f32).clamp(MIN_SCALE, 1.0);
+        let reactive = match policy {
+            Policy::AcuityReactive => Some(ReactiveScheduler::new(ReactiveSettings::for_rate_hz(
+                target_hz,
+            )?)),
+            _ => None,
+        };
         Ok(PolicyRunner {
             policy,
             pursued: world.tracked_instance().map(|i| ids[i]),
@@ -141,7 +149,7 @@ impl PolicyRunner {
         // A positive `s` too small for `f32` is the smallest positive one,
         // not 0 (which would read as "unset").
         self.scale = if scale > 0.0 {
-            (scale as f32).clamp(f32::MIN_POSITIVE, 1.0)
+            (scale as f32).clamp(MIN_SCALE, 1.0)
         } else {
             1.0
         };

@@ -139,7 +139,7 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", super::error_line(&e));
             match e.downcast_ref::<PreprocessError>() {
                 Some(PreprocessError::Usage(_)) => ExitCode::from(2),
                 _ => ExitCode::from(1),
@@ -298,20 +298,11 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         .validate()
         .map_err(|e| PreprocessError::Usage(e.to_string()))?;
     let out_dir = args.out.clone().unwrap_or(default_out);
-    // Distinct names can share a file name once sanitised ("a b", "a_b").
-    let mut seen = std::collections::HashMap::new();
-    for j in &jobs {
-        if let Ok(src) = &j.source
-            && let Some(other) = seen.insert(profiles::cache_path(&out_dir, src), &j.name)
-        {
-            return Err(PreprocessError::Usage(format!(
-                "objects `{other}` and `{}` would share the profile file {}; rename one",
-                j.name,
-                profiles::cache_path(&out_dir, src).display()
-            ))
-            .into());
-        }
-    }
+    profiles::check_distinct_cache_paths(
+        &out_dir,
+        jobs.iter().filter_map(|j| j.source.as_ref().ok()),
+    )
+    .map_err(PreprocessError::Usage)?;
     let rows = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -365,7 +356,7 @@ fn process(
                     rows.push(None);
                     to_analyse.push(i);
                 }
-                Err(e) => rows.push(row(Outcome::Failed(format!("{e:#}")))),
+                Err(e) => rows.push(row(Outcome::Failed(super::error_line(&e)))),
             },
         }
     }
@@ -432,7 +423,7 @@ fn process(
                     });
                     Outcome::Analysed(p)
                 }
-                Err(e) => Outcome::Failed(format!("{e:#}")),
+                Err(e) => Outcome::Failed(super::error_line(&e)),
             },
         };
         let seconds = t0.elapsed().as_secs_f64();
@@ -463,8 +454,9 @@ fn process(
             let Ok(src) = &j.source else { continue };
             let path = profiles::cache_path(out_dir, src).with_extension("json");
             if let Err(e) = write_json_if_changed(p, &path) {
-                eprintln!("error: object `{}`: {e:#}", j.name);
-                row.outcome = Outcome::Failed(format!("{e:#}"));
+                let line = super::error_line(&e);
+                eprintln!("error: object `{}`: {line}", j.name);
+                row.outcome = Outcome::Failed(line);
             }
         }
     }

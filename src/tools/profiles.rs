@@ -93,10 +93,34 @@ pub fn cache_path(cache_dir: &Path, object: &ObjectSource) -> PathBuf {
     cache_dir.join(format!("{safe}.acp"))
 }
 
+/// Refuses objects whose profiles would share a file in `cache_dir`:
+/// distinct names can map to one file name once sanitised (`a b` and `a_b`
+/// both to `a_b.acp`, see [`cache_path`]). The reason names both objects
+/// and the file.
+pub fn check_distinct_cache_paths<'a>(
+    cache_dir: &Path,
+    objects: impl IntoIterator<Item = &'a ObjectSource>,
+) -> Result<(), String> {
+    let mut seen = std::collections::HashMap::new();
+    for o in objects {
+        let path = cache_path(cache_dir, o);
+        if let Some(other) = seen.insert(path.clone(), o.name()) {
+            return Err(format!(
+                "objects `{other}` and `{}` would share the profile file {}; rename one",
+                o.name(),
+                path.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The cached profile of an object, when `cache_dir` holds one whose
 /// recorded input hashes (files, generation parameters, settings) and
 /// settings equal the current ones; `None` when there is none, it is
-/// unreadable, or anything changed. Hashing reads the inputs (an unreadable
+/// unusable, or anything changed. An unusable one (corrupt, of an older or
+/// newer format, not a regular file) is reported on stderr as a warning
+/// line, since it will be replaced. Hashing reads the inputs (an unreadable
 /// input file is an error) but renders nothing.
 pub fn cached_profile(
     object: &ObjectSource,
@@ -104,8 +128,19 @@ pub fn cached_profile(
     cache_dir: &Path,
 ) -> anyhow::Result<Option<Profile>> {
     let hashes = pipeline::input_hashes(object, settings)?;
-    let Ok(cached) = Profile::load(cache_path(cache_dir, object)) else {
-        return Ok(None);
+    let path = cache_path(cache_dir, object);
+    let cached = match Profile::load(&path) {
+        Ok(p) => p,
+        Err(e) => {
+            if let Some(why) = unusable(&e, &path) {
+                eprintln!(
+                    "warning: {}: cached profile {why}; analysing `{}` again to replace it",
+                    path.display(),
+                    object.name()
+                );
+            }
+            return Ok(None);
+        }
     };
     let same = cached.inputs.len() == hashes.len()
         && cached
@@ -114,6 +149,35 @@ pub fn cached_profile(
             .zip(&hashes)
             .all(|(a, b)| a.what == b.what && a.hash_hex == b.hash_hex);
     Ok((same && cached.settings == settings_record(settings)).then_some(cached))
+}
+
+/// Why the cached profile at `path`, which failed to load with `e`, is
+/// unusable; `None` when there is no file to replace.
+fn unusable(e: &crate::Error, path: &Path) -> Option<String> {
+    use std::cmp::Ordering;
+    match e {
+        crate::Error::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => None,
+        crate::Error::Io { source, .. } => Some(format!("cannot be read: {source}")),
+        crate::Error::ProfileVersion {
+            found, supported, ..
+        } => {
+            let age = match found.cmp(supported) {
+                Ordering::Less => "an older",
+                _ => "a newer",
+            };
+            Some(format!(
+                "has {age} format version ({found}; this build reads {supported})"
+            ))
+        }
+        _ => {
+            let text = e.to_string();
+            let prefix = format!("{}: ", path.display());
+            Some(format!(
+                "is corrupt ({})",
+                text.strip_prefix(&prefix).unwrap_or(&text)
+            ))
+        }
+    }
 }
 
 /// Analyses an object with `renderer` and writes its profile to
@@ -194,5 +258,45 @@ mod tests {
         assert_eq!(p.transitions[0].features[1].luminance, [0.1, 0.9]);
         assert_eq!(p.transitions_at(0, 1)[0].features[0].freq_cdiam, 8.0);
         assert!(p.transitions[1].features.is_empty());
+    }
+
+    #[test]
+    fn names_that_sanitise_alike_are_refused() {
+        let rock = |name: &str| ObjectSource::Procedural {
+            name: name.into(),
+            params: acuity_preprocess::lods::ProceduralParams {
+                triangles: 100,
+                seed: 1,
+            },
+            triangle_targets: vec![100, 10],
+        };
+        let (a, b, c) = (rock("a b"), rock("a_b"), rock("c"));
+        let e = check_distinct_cache_paths(Path::new("cache"), [&a, &c, &b]).unwrap_err();
+        assert!(
+            e.contains("`a b` and `a_b`") && e.contains("a_b.acp"),
+            "{e}"
+        );
+        assert!(check_distinct_cache_paths(Path::new("cache"), [&a, &c]).is_ok());
+    }
+
+    #[test]
+    fn a_missing_cache_file_is_quiet_and_a_bad_one_says_why() {
+        let io = |kind| crate::Error::Io {
+            path: "x.acp".into(),
+            source: std::io::Error::from(kind),
+        };
+        let at = Path::new("x.acp");
+        assert_eq!(unusable(&io(std::io::ErrorKind::NotFound), at), None);
+        assert!(unusable(&io(std::io::ErrorKind::InvalidInput), at).is_some());
+        let version = |found| crate::Error::ProfileVersion {
+            path: None,
+            found,
+            supported: 2,
+        };
+        assert!(unusable(&version(1), at).unwrap().contains("older"));
+        assert!(unusable(&version(3), at).unwrap().contains("newer"));
+        let garbage = Profile::from_bytes(b"GARBAGE").unwrap_err().with_path(at);
+        let why = unusable(&garbage, at).unwrap();
+        assert!(why.starts_with("is corrupt (malformed"), "{why}");
     }
 }

@@ -895,7 +895,7 @@ pub fn command(args: &RunArgs) -> ExitCode {
     match run(args) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", super::error_line(&e));
             ExitCode::from(2)
         }
     }

@@ -37,7 +37,7 @@
 //! object = "bunny"
 //! copy = 0
 //! tracker = "eye"                    # "none" | "head" | "eye"
-//! eye_error_deg = 1.0
+//! eye_error_deg = 1.0                # only with tracker = "eye"
 //!
 //! [run]                              # optional; defaults shown in RunSpec
 //! target_hz = 60
@@ -61,9 +61,17 @@
 //! ([`acuity_preprocess::AnalysisSettings::default`]).
 //!
 //! Unknown keys are errors (so a misspelt key is not silently ignored), and
-//! so are NaN and infinite numbers anywhere in the file. Every error is a
-//! [`SceneError`] naming the file, line, column and field path
-//! (`objects[2].copies.count`).
+//! so are NaN and infinite numbers anywhere in the file and arrays longer
+//! or shorter than their field's. Every error is a [`SceneError`] naming
+//! the file, line, column and field path (`objects[2].copies.count`).
+//!
+//! Limits ([`super::limits`] has them all): at most 10,000,000 frames
+//! (`run.frames`, or as `dt_s` or `target_hz` imply), 16,384 pixels a
+//! display side, 1,000,000 copies of an object, 10,000,000 triangles a
+//! procedural LOD and 1,000,000,000 triangles at full detail over all
+//! instances; `target_hz` in 1..=10,000 Hz, `dt_s` in 0.0001..=1 s, and
+//! `scale_factor` in (0, 1] (below 1.2e-38 it selects as 1.2e-38). A value
+//! beyond a limit is an error naming the field and the limit.
 
 #![allow(
     clippy::neg_cmp_op_on_partial_ord,
@@ -84,12 +92,9 @@ use super::gaze::{Gaze, GazeMode, GazePoint, GazeSpec, Tracker};
 use super::path::{CameraMotion, CameraPath, Keyframe, SweepShape, YawSweep};
 use super::placement::{Copies, Placement, PlacementSpec, Transform};
 
-/// Largest accepted display side, pixels.
-pub const MAX_RESOLUTION_PX: u32 = 16_384;
-/// Largest accepted number of copies of one object.
-pub const MAX_COPIES: u32 = 1_000_000;
-/// Largest accepted number of frames in a run.
-pub const MAX_FRAMES: u64 = 10_000_000;
+use super::arrays::Exact;
+use super::limits;
+pub use super::limits::{MAX_COPIES, MAX_FRAMES, MAX_RESOLUTION_PX};
 
 /// Everything that can be wrong with a scene file. Each variant names the
 /// file; all but `Io` also name the line and column (1-based) and the field.
@@ -455,13 +460,15 @@ impl Policy {
 /// Run settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSpec {
-    /// Target frame rate, Hz (> 0; default 60). Its period is the frame
+    /// Target frame rate, Hz (from [`limits::MIN_TARGET_HZ`] to
+    /// [`limits::MAX_TARGET_HZ`]; default 60). Its period is the frame
     /// budget of the fixed-frame-rate schedulers.
     pub target_hz: f64,
     /// Policies to run, in file order, no repeats (default: all).
     pub policies: Vec<Policy>,
-    /// Simulated time between frames, seconds (> 0). From `dt_s`, else
-    /// `duration_s / frames`, else `1 / target_hz`.
+    /// Simulated time between frames, seconds (> 0). From `dt_s` (from
+    /// [`limits::MIN_DT_S`] to [`limits::MAX_DT_S`]), else `duration_s /
+    /// frames`, else `1 / target_hz`.
     pub frame_dt_s: f64,
     /// Number of frames (>= 1). From `frames`, else
     /// `ceil(duration_s / frame_dt_s)`.
@@ -556,9 +563,9 @@ struct RawScene {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawDisplay {
-    resolution: [u32; 2],
-    fov_deg: Option<[f64; 2]>,
-    screen_cm: Option<[f64; 2]>,
+    resolution: Exact<u32, 2>,
+    fov_deg: Option<Exact<f64, 2>>,
+    screen_cm: Option<Exact<f64, 2>>,
     distance_cm: Option<f64>,
     peak_luminance_cd_m2: Option<f64>,
     contrast_ratio: Option<f64>,
@@ -599,9 +606,9 @@ fn one() -> f64 {
 #[serde(deny_unknown_fields)]
 struct RawTransform {
     #[serde(default)]
-    position: [f64; 3],
+    position: Exact<f64, 3>,
     #[serde(default)]
-    rotation_deg: [f64; 3],
+    rotation_deg: Exact<f64, 3>,
     #[serde(default = "one")]
     scale: f64,
 }
@@ -612,8 +619,8 @@ struct RawCopies {
     count: u32,
     #[serde(default)]
     seed: u64,
-    volume_min: [f64; 3],
-    volume_max: [f64; 3],
+    volume_min: Exact<f64, 3>,
+    volume_max: Exact<f64, 3>,
     #[serde(default)]
     random_rotation: bool,
     #[serde(default = "one")]
@@ -634,7 +641,7 @@ struct RawCamera {
 #[serde(deny_unknown_fields)]
 struct RawKeyframe {
     t: f64,
-    position: [f64; 3],
+    position: Exact<f64, 3>,
     #[serde(default)]
     yaw_deg: f64,
     #[serde(default)]
@@ -647,7 +654,7 @@ struct RawKeyframe {
 #[serde(deny_unknown_fields)]
 struct RawStart {
     #[serde(default)]
-    position: [f64; 3],
+    position: Exact<f64, 3>,
     #[serde(default)]
     yaw_deg: f64,
     #[serde(default)]
@@ -679,7 +686,7 @@ enum RawGazeMode {
 struct RawGaze {
     #[serde(default)]
     mode: RawGazeMode,
-    point_deg: Option<[f64; 2]>,
+    point_deg: Option<Exact<f64, 2>>,
     path: Option<Vec<RawGazePoint>>,
     object: Option<String>,
     copy: Option<u32>,
@@ -692,7 +699,7 @@ struct RawGaze {
 #[serde(deny_unknown_fields)]
 struct RawGazePoint {
     t: f64,
-    point_deg: [f64; 2],
+    point_deg: Exact<f64, 2>,
 }
 
 #[derive(Deserialize, Default)]
@@ -832,6 +839,7 @@ impl<'t> Ctx<'t> {
             }
             objects.push(obj);
         }
+        self.scene_triangles(&objects)?;
         let camera = self.camera(raw.camera)?;
         let gaze = self.gaze(raw.gaze.unwrap_or_default(), &objects)?;
         let run = self.run(raw.run.unwrap_or_default(), camera.duration_s)?;
@@ -896,7 +904,8 @@ impl<'t> Ctx<'t> {
     }
 
     fn display(&self, d: RawDisplay) -> Res<DisplaySpec> {
-        for (k, &px) in d.resolution.iter().enumerate() {
+        let resolution = d.resolution.0;
+        for (k, &px) in resolution.iter().enumerate() {
             if px == 0 || px > MAX_RESOLUTION_PX {
                 return Err(self.invalid(
                     format!("display.resolution[{k}]"),
@@ -904,7 +913,8 @@ impl<'t> Ctx<'t> {
                 ));
             }
         }
-        let (fov_deg, physical) = match (d.fov_deg, d.screen_cm, d.distance_cm) {
+        let given = (d.fov_deg.map(|f| f.0), d.screen_cm.map(|s| s.0));
+        let (fov_deg, physical) = match (given.0, given.1, d.distance_cm) {
             (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
                 return Err(self.invalid(
                     "display.fov_deg",
@@ -961,7 +971,7 @@ impl<'t> Ctx<'t> {
             }
         }
         let spec = DisplaySpec {
-            resolution_px: d.resolution,
+            resolution_px: resolution,
             fov_deg,
             physical,
             peak_luminance_cd_m2: d.peak_luminance_cd_m2.unwrap_or(200.0),
@@ -1029,6 +1039,16 @@ impl<'t> Ctx<'t> {
                     return Err(self.invalid(at("generate_triangles"), "only valid with `mesh`"));
                 }
                 self.triangles(&at("procedural.triangles"), &p.triangles)?;
+                if p.triangles[0] > limits::MAX_PROCEDURAL_TRIANGLES {
+                    return Err(self.invalid(
+                        at("procedural.triangles[0]"),
+                        format!(
+                            "{} triangles is more than {} (a procedural LOD's limit)",
+                            p.triangles[0],
+                            limits::MAX_PROCEDURAL_TRIANGLES
+                        ),
+                    ));
+                }
                 MeshSource::Procedural {
                     kind: p.kind,
                     triangles: p.triangles,
@@ -1052,8 +1072,8 @@ impl<'t> Ctx<'t> {
                     );
                 }
                 PlacementSpec::Transform(Transform {
-                    position_m: DVec3::from_array(t.position),
-                    rotation_deg: t.rotation_deg,
+                    position_m: DVec3::from_array(t.position.0),
+                    rotation_deg: t.rotation_deg.0,
                     scale: t.scale,
                 })
             }
@@ -1064,13 +1084,14 @@ impl<'t> Ctx<'t> {
                         format!("{} is outside 1..={MAX_COPIES}", c.count),
                     ));
                 }
+                let (volume_min, volume_max) = (c.volume_min.0, c.volume_max.0);
                 for k in 0..3 {
-                    if c.volume_min[k] > c.volume_max[k] {
+                    if volume_min[k] > volume_max[k] {
                         return Err(self.invalid(
                             at(&format!("copies.volume_max[{k}]")),
                             format!(
                                 "{} is below volume_min[{k}] = {}",
-                                c.volume_max[k], c.volume_min[k]
+                                volume_max[k], volume_min[k]
                             ),
                         ));
                     }
@@ -1083,8 +1104,8 @@ impl<'t> Ctx<'t> {
                 PlacementSpec::Copies(Copies {
                     count: c.count,
                     seed: c.seed,
-                    volume_min_m: DVec3::from_array(c.volume_min),
-                    volume_max_m: DVec3::from_array(c.volume_max),
+                    volume_min_m: DVec3::from_array(volume_min),
+                    volume_max_m: DVec3::from_array(volume_max),
                     random_rotation: c.random_rotation,
                     scale: c.scale,
                 })
@@ -1099,6 +1120,26 @@ impl<'t> Ctx<'t> {
             name: o.name,
             source,
             placement,
+        })
+    }
+
+    /// The full-detail triangles of the procedural objects (the others'
+    /// are known once their meshes are loaded) against
+    /// [`limits::MAX_SCENE_TRIANGLES`].
+    fn scene_triangles(&self, objects: &[ObjectSpec]) -> Res<()> {
+        let counts = objects.iter().map(|o| {
+            let triangles = match &o.source {
+                MeshSource::Procedural { triangles, .. } => u64::from(triangles[0]),
+                _ => 0,
+            };
+            (o.name.as_str(), triangles, o.placement.count() as u64)
+        });
+        limits::check_scene_triangles(counts).map_err(|(i, reason)| {
+            let field = match objects[i].placement {
+                PlacementSpec::Copies(_) => format!("objects[{i}].copies.count"),
+                PlacementSpec::Transform(_) => format!("objects[{i}].procedural.triangles[0]"),
+            };
+            self.invalid(field, reason)
         })
     }
 
@@ -1188,7 +1229,7 @@ impl<'t> Ctx<'t> {
                     .into_iter()
                     .map(|k| Keyframe {
                         t_s: k.t,
-                        position_m: DVec3::from_array(k.position),
+                        position_m: DVec3::from_array(k.position.0),
                         yaw_deg: k.yaw_deg,
                         pitch_deg: k.pitch_deg,
                         roll_deg: k.roll_deg,
@@ -1243,7 +1284,7 @@ impl<'t> Ctx<'t> {
                     duration_s,
                     motion: CameraMotion::Forward {
                         speed_m_per_s: speed,
-                        start_m: DVec3::from_array(start.position),
+                        start_m: DVec3::from_array(start.position.0),
                         start_yaw_deg: start.yaw_deg,
                         start_pitch_deg: start.pitch_deg,
                         yaw_sweep,
@@ -1273,7 +1314,7 @@ impl<'t> Ctx<'t> {
         let mode = match g.mode {
             RawGazeMode::ScreenCentre => GazeMode::ScreenCentre,
             RawGazeMode::Fixed => {
-                let Some(p) = g.point_deg else {
+                let Some(Exact(p)) = g.point_deg else {
                     return Err(self.invalid(
                         "gaze.point_deg",
                         "missing: mode = \"fixed\" needs point_deg = [x, y]",
@@ -1295,7 +1336,7 @@ impl<'t> Ctx<'t> {
                     return Err(self.invalid("gaze.path", "needs at least one point"));
                 }
                 for (k, p) in points.iter().enumerate() {
-                    self.screen_point(&format!("gaze.path[{k}].point_deg"), p.point_deg)?;
+                    self.screen_point(&format!("gaze.path[{k}].point_deg"), p.point_deg.0)?;
                     if k > 0 && !(p.t > points[k - 1].t) {
                         return Err(self.invalid(
                             format!("gaze.path[{k}].t"),
@@ -1312,7 +1353,7 @@ impl<'t> Ctx<'t> {
                         .into_iter()
                         .map(|p| GazePoint {
                             t_s: p.t,
-                            point_deg: DVec2::from_array(p.point_deg),
+                            point_deg: DVec2::from_array(p.point_deg.0),
                         })
                         .collect(),
                 )
@@ -1344,6 +1385,16 @@ impl<'t> Ctx<'t> {
                 GazeMode::Track { object, copy }
             }
         };
+        if g.eye_error_deg.is_some() && g.tracker != Tracker::Eye {
+            return Err(self.invalid(
+                "gaze.eye_error_deg",
+                format!(
+                    "needs tracker = \"eye\" (tracker is \"{}\", whose margin is fixed at {} deg)",
+                    g.tracker.name(),
+                    g.tracker.default_error_deg()
+                ),
+            ));
+        }
         let tracker_error_deg = g
             .eye_error_deg
             .unwrap_or_else(|| g.tracker.default_error_deg());
@@ -1374,9 +1425,7 @@ impl<'t> Ctx<'t> {
 
     fn run(&self, r: RawRun, duration_s: f64) -> Res<RunSpec> {
         let target_hz = r.target_hz.unwrap_or(60.0);
-        if !(target_hz > 0.0) {
-            return Err(self.invalid("run.target_hz", format!("{target_hz} Hz must be > 0")));
-        }
+        limits::check_target_hz(target_hz).map_err(|e| self.invalid("run.target_hz", e))?;
         let policies = r.policies.unwrap_or_else(|| Policy::ALL.to_vec());
         if policies.is_empty() {
             return Err(self.invalid("run.policies", "needs at least one policy"));
@@ -1398,9 +1447,7 @@ impl<'t> Ctx<'t> {
                 return Err(self.invalid("run.dt_s", "give either frames or dt_s, not both"));
             }
             (Some(dt), None) => {
-                if !(dt > 0.0) {
-                    return Err(self.invalid("run.dt_s", format!("{dt} s must be > 0")));
-                }
+                limits::check_dt_s(dt).map_err(|e| self.invalid("run.dt_s", e))?;
                 dt
             }
             (None, Some(n)) => duration_s / f64::from(n),

@@ -1,0 +1,162 @@
+//! What scene files and the command line accept: every count, size and rate
+//! that sets how much memory or time a command takes is bounded here, and
+//! a value beyond its limit is refused with an error that names the field
+//! (or flag) and the limit.
+//!
+//! | what | limit | where it enters |
+//! |---|---|---|
+//! | frames of a run | 1 to [`MAX_FRAMES`] (10,000,000) | `run.frames`, derived from `run.dt_s` or `run.target_hz`, `--frames` |
+//! | display side | 1 to [`MAX_RESOLUTION_PX`] (16,384) pixels | `display.resolution`, `--resolution` |
+//! | copies of an object | 1 to [`MAX_COPIES`] (1,000,000) | `copies.count` |
+//! | triangles of a procedural LOD | 1 to [`MAX_PROCEDURAL_TRIANGLES`] (10,000,000) | `procedural.triangles` |
+//! | triangles at full detail, all instances | [`MAX_SCENE_TRIANGLES`] (1,000,000,000) | LOD 0 x copies, summed over objects |
+//! | target frame rate | [`MIN_TARGET_HZ`] (1) to [`MAX_TARGET_HZ`] (10,000) Hz | `run.target_hz`, `--target-hz` |
+//! | simulated time step | [`MIN_DT_S`] (0.1 ms) to [`MAX_DT_S`] (1 s) | `run.dt_s` |
+//! | load spikes | 0 to [`MAX_SPIKE_LOAD`] (10) frame budgets | `--spike-load` |
+//! | scale factor `s` | (0, 1]; below [`MIN_SCALE`] (`f32`'s smallest normal, 1.2e-38) it selects as `MIN_SCALE`: the coarsest LODs | `run.scale_factor`, `--scales` |
+//!
+//! The full-detail triangle count is estimated from the scene file (the
+//! first target of `procedural` and `generate_triangles` LODs) when it is
+//! read, and checked again with the loaded meshes before anything is
+//! analysed or drawn.
+
+use crate::error::number;
+use crate::schedule;
+
+pub use crate::schedule::{MAX_TARGET_HZ, MIN_TARGET_HZ};
+
+/// Most frames of a run (a frame's records are kept for every policy).
+pub const MAX_FRAMES: u64 = 10_000_000;
+/// Largest display side, pixels.
+pub const MAX_RESOLUTION_PX: u32 = 16_384;
+/// Most copies of one object.
+pub const MAX_COPIES: u32 = 1_000_000;
+/// Most triangles of one LOD of a procedural object (it is tessellated in
+/// memory, about 40 bytes a triangle).
+pub const MAX_PROCEDURAL_TRIANGLES: u32 = 10_000_000;
+/// Most triangles of a scene at full detail: LOD 0's triangles times the
+/// object's instances, summed over its objects (each frame may draw them).
+pub const MAX_SCENE_TRIANGLES: u64 = 1_000_000_000;
+/// Shortest simulated time between frames, seconds (`1 / MAX_TARGET_HZ`).
+pub const MIN_DT_S: f64 = 1e-4;
+/// Longest simulated time between frames given as `dt_s`, seconds
+/// (`1 / MIN_TARGET_HZ`).
+pub const MAX_DT_S: f64 = 1.0;
+/// Largest extra load of `experiment framerate`'s spikes, in frame budgets.
+pub const MAX_SPIKE_LOAD: f64 = 10.0;
+/// Smallest scale factor `s` selected with; a smaller positive `s` selects
+/// as this one.
+pub const MIN_SCALE: f32 = f32::MIN_POSITIVE;
+
+/// Checks a target frame rate, Hz ([`MIN_TARGET_HZ`]..=[`MAX_TARGET_HZ`]);
+/// the reason says the limits.
+pub fn check_target_hz(hz: f64) -> Result<(), String> {
+    match schedule::check_target_hz("target_hz", hz) {
+        Ok(()) => Ok(()),
+        Err(crate::Error::InvalidParameter { reason, .. }) => Err(reason),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Checks a simulated time between frames, seconds
+/// ([`MIN_DT_S`]..=[`MAX_DT_S`]).
+pub fn check_dt_s(dt_s: f64) -> Result<(), String> {
+    if (MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} s is outside {MIN_DT_S}..={MAX_DT_S} s",
+            number(dt_s)
+        ))
+    }
+}
+
+/// Checks a load-spike size, in frame budgets (0..=[`MAX_SPIKE_LOAD`]).
+pub fn check_spike_load(load: f64) -> Result<(), String> {
+    if (0.0..=MAX_SPIKE_LOAD).contains(&load) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} frame budgets is outside 0..={MAX_SPIKE_LOAD}",
+            number(load)
+        ))
+    }
+}
+
+/// Checks the triangles of a scene at full detail against
+/// [`MAX_SCENE_TRIANGLES`]: `objects` gives each object's name, LOD 0
+/// triangles and instance count. The error gives the position of the
+/// object that crosses the limit and a reason that names it.
+pub fn check_scene_triangles<'a>(
+    objects: impl IntoIterator<Item = (&'a str, u64, u64)>,
+) -> Result<(), (usize, String)> {
+    let mut total = 0u64;
+    for (i, (name, triangles, instances)) in objects.into_iter().enumerate() {
+        total = total.saturating_add(triangles.saturating_mul(instances));
+        if total > MAX_SCENE_TRIANGLES {
+            return Err((
+                i,
+                format!(
+                    "with object `{name}` ({triangles} triangles x {instances} instances) the \
+                     scene has {total} triangles at full detail, more than {MAX_SCENE_TRIANGLES}"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Parses a target frame rate flag, Hz (see [`check_target_hz`]).
+pub fn parse_target_hz(text: &str) -> Result<f64, String> {
+    let hz: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    check_target_hz(hz).map(|()| hz)
+}
+
+/// Parses a load-spike flag, frame budgets (see [`check_spike_load`]).
+pub fn parse_spike_load(text: &str) -> Result<f64, String> {
+    let load: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    check_spike_load(load).map(|()| load)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_beyond_their_limits_are_refused_with_the_limit() {
+        for t in [
+            "1e-300", "1e-40", "0", "0.5", "20000", "inf", "nan", "-1", "x",
+        ] {
+            let e = parse_target_hz(t).unwrap_err();
+            assert!(
+                e.contains("10000") || e.contains("not a number"),
+                "{t}: {e}"
+            );
+        }
+        assert_eq!(parse_target_hz("90"), Ok(90.0));
+        let e = parse_target_hz("1e-300").unwrap_err();
+        assert!(e.starts_with("1e-300 Hz") && e.len() < 60, "{e}");
+        for t in ["1e6", "10.5", "-0.1", "nan", "inf"] {
+            let e = parse_spike_load(t).unwrap_err();
+            assert!(e.contains("0..=10"), "{t}: {e}");
+        }
+        assert_eq!(parse_spike_load("0.5"), Ok(0.5));
+        assert!(check_dt_s(1e-300).is_err() && check_dt_s(1e300).is_err());
+        assert!(check_dt_s(f64::NAN).is_err() && check_dt_s(0.05).is_ok());
+    }
+
+    #[test]
+    fn scene_triangles_saturate_and_name_the_object() {
+        assert!(check_scene_triangles([("a", 4000, 1000), ("b", 100, 1)]).is_ok());
+        let (i, e) =
+            check_scene_triangles([("a", 4000, 1), ("rock", u64::MAX, u64::MAX)]).unwrap_err();
+        assert_eq!(i, 1);
+        assert!(e.contains("`rock`") && e.contains("1000000000"), "{e}");
+    }
+}
