@@ -34,6 +34,26 @@
 //! `H(v, E) / H(0, 0)` ([`crate::acuity`]), so a feature of frequency `f`
 //! c/deg is invisible when `f > s H(v, E) f_c(c) / H(0, 0)`.
 //!
+//! Motion on a sampled display. Velocity models (`G(v)`) describe smooth
+//! motion, where detail of frequency `u` moving at `v` flickers at `u v`
+//! Hz and vanishes above the temporal resolution. A display instead shows
+//! each frame still for `t = 1 / refresh` s: to a fixating eye an object
+//! moving more than its own detail per frame is a series of still images,
+//! each visible like a still image shown for `t`. In Barten's model the eye
+//! integrates over `T = 0.1` s and sensitivity grows as `sqrt(T)`, so an
+//! image shown for `t < T` keeps `B = sqrt(t / T)` of its sensitivity
+//! (0.41 at 60 Hz, 0.33 at 90 Hz). The cut-off frequency that reduced
+//! sensitivity leaves is a floor under `G(v)`
+//! ([`Csf::sampled_motion_floor`]): 0.84-0.91 of foveal acuity on 60-144
+//! Hz displays, so on such displays motion hides little detail that the
+//! display can show. The floor holds at every velocity, so `G` stays
+//! continuous and non-increasing; it also covers motion slower than a
+//! pixel per frame, which is smooth on the retina, but there `G` is above
+//! what a display of fewer than about 50 pixels per degree shows anyway.
+//! A floor that started only at one pixel per frame (capped there by `G`,
+//! to stay monotone) let savings through that FovVideoVDP sees, on a
+//! headset of 4 pixels per degree.
+//!
 //! Field size: a feature is a small patch, not a grating filling the view,
 //! and Barten's `X0` models how sensitivity falls as the patch shrinks
 //! (spatial summation). Each feature's field is the square root of its
@@ -221,6 +241,10 @@ pub fn barten_sensitivity(freq_cpd: f64, luminance_cd_m2: f64, field_deg: f64) -
     num / den
 }
 
+/// Barten's integration time of the eye, s: a still image shown for less
+/// is seen with its sensitivity scaled by the square root of the shortfall.
+pub const INTEGRATION_TIME_S: f32 = 0.1;
+
 /// Field sizes are clamped into this range, deg: below a twentieth of a
 /// degree Barten's spatial integration term is far outside the data it
 /// was fitted to; 60 deg is larger than any display.
@@ -261,6 +285,31 @@ impl Csf {
             luminance_cd_m2: f64::from(photometry.adapting_cd_m2),
             scale: f64::from(observer.sensitivity),
         })
+    }
+
+    /// The fraction of foveal acuity that retinal motion cannot take away
+    /// on a display that holds each frame for `1 / refresh_hz` s, in
+    /// `(0, 1]` (see the module docs, "Motion on a sampled display"):
+    /// `f_c(c B) / f_c(c)` with `B = sqrt(t / T)`, `t` the frame time
+    /// (at most `T`), `T` Barten's integration time
+    /// ([`INTEGRATION_TIME_S`]), `c` the display's largest contrast and the
+    /// largest field (the highest floor, the conservative side).
+    /// `refresh_hz` must be finite and positive; anything else gives 0
+    /// (no floor: continuous motion).
+    pub fn sampled_motion_floor(&self, photometry: &Photometry, refresh_hz: f32) -> f32 {
+        if !(refresh_hz.is_finite() && refresh_hz > 0.0) {
+            return 0.0;
+        }
+        let frame_s = (1.0 / f64::from(refresh_hz)).min(f64::from(INTEGRATION_TIME_S));
+        let flash = (frame_s / f64::from(INTEGRATION_TIME_S)).sqrt() as f32;
+        let csf = self.for_field(FIELD_RANGE_DEG.1);
+        let contrast = photometry.contrast([0.0, 1.0]);
+        let (steady, flashed) = (csf.cutoff_cpd(contrast), csf.cutoff_cpd(contrast * flash));
+        if steady > 0.0 {
+            (flashed / steady).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
     }
 
     /// The CSF for patterns covering `field_deg` degrees (Barten's `X0`;
@@ -404,6 +453,21 @@ mod tests {
         assert!((s - 670.4).abs() < 1.0, "{s}");
         let s = barten_sensitivity(40.0, 100.0, 40.0);
         assert!((s - 7.0).abs() < 0.1, "{s}");
+    }
+
+    #[test]
+    fn sampled_motion_floor_is_high_and_falls_with_the_refresh_rate() {
+        let photometry = Photometry::default();
+        let floor = |hz| csf().sampled_motion_floor(&photometry, hz);
+        let (at60, at90, at144) = (floor(60.0), floor(90.0), floor(144.0));
+        assert!((0.85..0.95).contains(&at60), "{at60}");
+        assert!(at144 < at90 && at90 < at60, "{at60} {at90} {at144}");
+        assert!(at144 > 0.8, "{at144}");
+        // A frame held for the whole integration time is a still image.
+        assert_eq!(floor(5.0), 1.0);
+        for bad in [0.0, -60.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(floor(bad), 0.0, "{bad}");
+        }
     }
 
     #[test]

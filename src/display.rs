@@ -13,13 +13,23 @@ pub struct Display {
     fov_deg: [f32; 2],
     #[serde(default)]
     photometry: Photometry,
+    #[serde(default = "default_refresh_hz")]
+    refresh_hz: Option<f32>,
 }
+
+/// Refresh rate of a display unless set otherwise, Hz: the common
+/// sample-and-hold panel.
+pub const DEFAULT_REFRESH_HZ: f32 = 60.0;
 
 /// Largest field of view accepted, deg. A planar display subtends less than
 /// 180 deg; the bound keeps `tan(fov / 2)` finite in `f32`.
 pub const MAX_FOV_DEG: f32 = 179.9;
 /// Smallest field of view accepted, deg.
 pub const MIN_FOV_DEG: f32 = 1e-3;
+
+fn default_refresh_hz() -> Option<f32> {
+    Some(DEFAULT_REFRESH_HZ)
+}
 
 impl Display {
     /// A display from its resolution (pixels, horizontal then vertical,
@@ -49,7 +59,33 @@ impl Display {
             resolution_px,
             fov_deg,
             photometry: Photometry::default(),
+            refresh_hz: Some(DEFAULT_REFRESH_HZ),
         })
+    }
+
+    /// The same display refreshed `refresh_hz` times a second, each frame
+    /// held until the next (sample and hold, as LCD and OLED panels and
+    /// headsets show them; default [`DEFAULT_REFRESH_HZ`]). Motion then
+    /// hides less detail: content that moves a pixel or more per frame is
+    /// seen as still frames ([`crate::csf::Csf::sampled_motion_floor`]).
+    /// `None` treats motion as continuous, as the velocity models were
+    /// measured; on a real panel that drops detail a fixating viewer
+    /// sees. A rate must be finite and in `[1, 10000]` Hz.
+    pub fn with_refresh_hz(self, refresh_hz: Option<f32>) -> Result<Self> {
+        if let Some(hz) = refresh_hz
+            && !(1.0..=10_000.0).contains(&hz)
+        {
+            return Err(Error::invalid(
+                "refresh_hz",
+                format!("{hz} Hz is outside [1, 10000]"),
+            ));
+        }
+        Ok(Self { refresh_hz, ..self })
+    }
+
+    /// The refresh rate, Hz; `None` for continuous motion.
+    pub fn refresh_hz(&self) -> Option<f32> {
+        self.refresh_hz
     }
 
     /// The same display with other photometry (validated; the error names

@@ -40,7 +40,7 @@ pub mod select;
 pub mod tools;
 mod viewpoints;
 
-pub use crate::acuity::Components;
+pub use crate::acuity::{Components, EccentricityModel, VelocityModel};
 pub use crate::camera::{Camera, Gaze, Tracker};
 pub use crate::csf::{Observer, Photometry};
 pub use crate::display::Display;

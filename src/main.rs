@@ -2,8 +2,9 @@
 
 use std::process::ExitCode;
 
+use acuity::acuity::threshold_cpd;
 use acuity::tools::thresholds::ThresholdReport;
-use acuity::{Display, acuity::acuity_cpd, acuity::threshold_cpd};
+use acuity::{Display, EccentricityModel, VelocityModel};
 use clap::{Args, Parser, Subcommand};
 
 #[derive(Parser)]
@@ -42,6 +43,14 @@ enum Command {
         /// Global scale factor s in (0, 1].
         #[arg(long, default_value_t = 1.0)]
         scale: f32,
+        /// How acuity falls with eccentricity: `cortical_magnification`
+        /// (the default) or `reddy2001`.
+        #[arg(long, default_value = "cortical_magnification")]
+        eccentricity_model: EccentricityModel,
+        /// How acuity falls with retinal velocity: `kelly1979` (the
+        /// default) or `reddy2001`.
+        #[arg(long, default_value = "kelly1979")]
+        velocity_model: VelocityModel,
         #[command(flatten)]
         display: DisplayArgs,
     },
@@ -119,6 +128,8 @@ fn main() -> ExitCode {
             velocity,
             eccentricity,
             scale,
+            eccentricity_model,
+            velocity_model,
             display,
         } => display.display().and_then(|d| {
             if !(scale > 0.0 && scale <= 1.0) {
@@ -127,7 +138,7 @@ fn main() -> ExitCode {
                     reason: format!("{scale} is not in (0, 1]"),
                 });
             }
-            let h = acuity_cpd(velocity, eccentricity);
+            let h = velocity_model.acuity_cpd(velocity) * eccentricity_model.factor(eccentricity);
             let xi = d.max_frequency_cpd();
             println!("acuity H: {h:.3} c/deg");
             println!("display limit xi: {xi:.3} c/deg");

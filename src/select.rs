@@ -48,10 +48,11 @@
 use glam::{DVec3, Mat3, Quat, Vec3, Vec4};
 
 use crate::acuity::{
-    Components, ECCENTRICITY_CEILING_DEG, ECCENTRICITY_FLOOR_DEG, MAX_ACUITY_CPD, MIN_ACUITY_CPD,
-    VELOCITY_CEILING_DEG_PER_S, VELOCITY_FLOOR_DEG_PER_S,
+    Components, DRIFT_VELOCITY_DEG_PER_S, ECCENTRICITY_CEILING_DEG, ECCENTRICITY_FLOOR_DEG,
+    EccentricityModel, MAX_ACUITY_CPD, MAX_ECCENTRICITY_DEG, MIN_ACUITY_CPD,
+    VELOCITY_CEILING_DEG_PER_S, VELOCITY_FLOOR_DEG_PER_S, VelocityModel, cortical_factor_unchecked,
 };
-use crate::camera::{Camera, Gaze, MAX_WORLD_COORDINATE, normalized_rotation};
+use crate::camera::{Camera, Gaze, MAX_WORLD_COORDINATE, Tracker, normalized_rotation};
 use crate::csf::{Csf, Observer};
 use crate::display::Display;
 use crate::error::{Error, Result};
@@ -155,6 +156,23 @@ pub struct SelectorSettings {
     /// The observer's contrast sensitivity calibration (with the
     /// display's photometry, it decides which contrasts are visible).
     pub observer: Observer,
+    /// How acuity falls with eccentricity (`M(E)`).
+    pub eccentricity_model: EccentricityModel,
+    /// How acuity falls with retinal velocity (`G(v)`); on a display with
+    /// a refresh rate ([`Display::with_refresh_hz`]) never below the
+    /// floor of sampled motion.
+    pub velocity_model: VelocityModel,
+    /// With head tracking only ([`crate::Tracker::Head`]): whether the eyes
+    /// counter-rotate when the head turns (the vestibulo-ocular reflex),
+    /// holding their direction in the world, so that a head turn alone
+    /// moves no world-fixed object on the retina. On (the default), retinal
+    /// velocity is measured in world-aligned axes: only the camera's
+    /// translation and objects' own motion count. Off, the eyes are taken
+    /// to turn with the head and a head turn sweeps everything across the
+    /// retina. Other trackers are unaffected: without tracking the
+    /// camera's turns are the display's content moving, and an eye tracker
+    /// reports the gaze itself.
+    pub eyes_counter_rotate: bool,
 }
 
 /// The vector instructions the selection loop may use
@@ -183,6 +201,9 @@ impl Default for SelectorSettings {
             min_scale: 0.01,
             simd: SimdLevel::Widest,
             observer: Observer::default(),
+            eccentricity_model: EccentricityModel::default(),
+            velocity_model: VelocityModel::default(),
+            eyes_counter_rotate: true,
         }
     }
 }
@@ -350,6 +371,8 @@ struct Tables<'a> {
     ladders: &'a [Ladder],
     object_profiles: &'a [u32],
     layout: RowLayout,
+    /// The lowest `G(v)` on this display, c/deg.
+    motion_floor_cpd: f32,
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -398,6 +421,9 @@ pub struct Selector {
     object_profiles: Vec<u32>,
     layout: RowLayout,
     rows: Vec<f32>,
+    /// The lowest `G(v)` on this display and observer, c/deg (0 for
+    /// continuous motion).
+    motion_floor_cpd: f32,
     /// Objects with more than one LOD: object `i` is lane `i % BLOCK` of
     /// block `i / BLOCK`.
     blocks: Vec<Block>,
@@ -427,6 +453,13 @@ struct FrameConsts<'a> {
     #[cfg_attr(not(feature = "simd-dispatch"), allow(dead_code))]
     simd: SimdLevel,
     size_on: bool,
+    eccentricity_model: EccentricityModel,
+    velocity_model: VelocityModel,
+    motion_floor_cpd: f32,
+    /// Retinal velocity is measured in world-aligned axes: directions are
+    /// turned by `eye_to_world` first.
+    world_velocity: bool,
+    eye_to_world: Mat3,
     margin_deg: f32,
     scale: f32,
     fill_deg: f32,
@@ -462,6 +495,7 @@ impl Selector {
             object_profiles: Vec::new(),
             layout: RowLayout::Empty,
             rows: Vec::new(),
+            motion_floor_cpd: motion_floor_cpd(&display, &settings),
             blocks: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
@@ -482,6 +516,7 @@ impl Selector {
     /// are compiled again for it.
     pub fn set_display(&mut self, display: Display) {
         self.display = display;
+        self.motion_floor_cpd = motion_floor_cpd(&display, &self.settings);
         let ppd = display.pixels_per_degree();
         for ladder in &mut self.ladders {
             ladder.boundaries_deg = rows::rung_boundaries_deg(&ladder.diameters_px, ppd);
@@ -872,6 +907,7 @@ impl Selector {
                 ladders: &self.ladders,
                 object_profiles: &self.object_profiles,
                 layout: self.layout,
+                motion_floor_cpd: self.motion_floor_cpd,
             },
             frame,
             scale_override,
@@ -959,6 +995,11 @@ fn frame_consts<'a>(
         cull: settings.cull,
         simd: settings.simd,
         size_on: settings.components.size,
+        eccentricity_model: settings.eccentricity_model,
+        velocity_model: settings.velocity_model,
+        motion_floor_cpd: tables.motion_floor_cpd,
+        world_velocity: settings.eyes_counter_rotate && frame.gaze.tracker == Tracker::Head,
+        eye_to_world: world_to_eye.transpose(),
         margin_deg,
         scale,
         fill_deg: display.filling_angular_size_deg(),
@@ -974,6 +1015,20 @@ fn frame_consts<'a>(
         layout: tables.layout,
         scan_max_views: viewpoints::SCAN_MAX_VIEWS_128,
     })
+}
+
+/// The floor under `G(v)` on `display`, c/deg: what a still frame shows
+/// ([`Csf::sampled_motion_floor`]), at every velocity. 0 without a
+/// refresh rate or with an invalid calibration (which adding a profile
+/// reports).
+fn motion_floor_cpd(display: &Display, settings: &SelectorSettings) -> f32 {
+    match (
+        display.refresh_hz(),
+        Csf::new(display.photometry(), &settings.observer),
+    ) {
+        (Some(hz), Ok(csf)) => MAX_ACUITY_CPD * csf.sampled_motion_floor(display.photometry(), hz),
+        _ => 0.0,
+    }
 }
 
 fn checked_scale(scale: f32) -> Result<f32> {
@@ -1590,10 +1645,21 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         let mut chord = [0.0f32; QUEUE];
         for i in 0..n {
             let inv_d = m.inv_d[i];
-            let (x, y, z) = (q.p[0][i] * inv_d, q.p[1][i] * inv_d, q.p[2][i] * inv_d);
-            m.dir[0][i] = x;
-            m.dir[1][i] = y;
-            m.dir[2][i] = z;
+            m.dir[0][i] = q.p[0][i] * inv_d;
+            m.dir[1][i] = q.p[1][i] * inv_d;
+            m.dir[2][i] = q.p[2][i] * inv_d;
+        }
+        if c.world_velocity {
+            let [a, b, d] = c.eye_to_world.to_cols_array_2d();
+            for i in 0..n {
+                let (x, y, z) = (m.dir[0][i], m.dir[1][i], m.dir[2][i]);
+                m.dir[0][i] = a[0] * x + b[0] * y + d[0] * z;
+                m.dir[1][i] = a[1] * x + b[1] * y + d[1] * z;
+                m.dir[2][i] = a[2] * x + b[2] * y + d[2] * z;
+            }
+        }
+        for i in 0..n {
+            let (x, y, z) = (m.dir[0][i], m.dir[1][i], m.dir[2][i]);
             let (ex, ey, ez) = (
                 x - dir_before[0][i],
                 y - dir_before[1][i],
@@ -1627,17 +1693,53 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
     // G(v) in a pass of its own (its polynomial's constants then stay in
     // registers), into `threshold_cpd` until the threshold replaces it.
     if VELOCITY {
-        for i in 0..n {
-            let v = fastmath::clamp(
-                m.seen_velocity[i],
-                VELOCITY_FLOOR_DEG_PER_S,
-                VELOCITY_CEILING_DEG_PER_S,
-            );
-            m.threshold_cpd[i] = fastmath::clamp(
-                57.69 - 27.78 * fastmath::log10(v),
-                MIN_ACUITY_CPD,
-                MAX_ACUITY_CPD,
-            );
+        let floor_cpd = c.motion_floor_cpd;
+        match c.velocity_model {
+            VelocityModel::Kelly1979 => {
+                for i in 0..n {
+                    let v = fastmath::max(m.seen_velocity[i], DRIFT_VELOCITY_DEG_PER_S);
+                    let g = MAX_ACUITY_CPD * ((DRIFT_VELOCITY_DEG_PER_S + 2.0) / (v + 2.0));
+                    m.threshold_cpd[i] = fastmath::max(g, floor_cpd);
+                }
+            }
+            VelocityModel::Reddy2001 => {
+                for i in 0..n {
+                    let v = fastmath::clamp(
+                        m.seen_velocity[i],
+                        VELOCITY_FLOOR_DEG_PER_S,
+                        VELOCITY_CEILING_DEG_PER_S,
+                    );
+                    let g = fastmath::clamp(
+                        57.69 - 27.78 * fastmath::log10(v),
+                        MIN_ACUITY_CPD,
+                        MAX_ACUITY_CPD,
+                    );
+                    m.threshold_cpd[i] = fastmath::max(g, floor_cpd);
+                }
+            }
+        }
+    }
+    // M(E) in a pass per model, so each vectorises on its own.
+    let mut m_factor = [1.0f32; QUEUE];
+    if ECCENTRICITY {
+        match c.eccentricity_model {
+            EccentricityModel::CorticalMagnification => {
+                for i in 0..n {
+                    let e = fastmath::clamp(m.eccentricity_deg[i], 0.0, MAX_ECCENTRICITY_DEG);
+                    m_factor[i] = cortical_factor_unchecked(e);
+                }
+            }
+            EccentricityModel::Reddy2001 => {
+                for i in 0..n {
+                    let e = fastmath::clamp(
+                        m.eccentricity_deg[i],
+                        ECCENTRICITY_FLOOR_DEG,
+                        ECCENTRICITY_CEILING_DEG,
+                    );
+                    let q = 0.3 * e + 1.0;
+                    m_factor[i] = fastmath::min(7.49 / (q * q), 1.0);
+                }
+            }
         }
     }
     for i in 0..n {
@@ -1646,18 +1748,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
         } else {
             MAX_ACUITY_CPD
         };
-        let m_factor = if ECCENTRICITY {
-            let e = fastmath::clamp(
-                m.eccentricity_deg[i],
-                ECCENTRICITY_FLOOR_DEG,
-                ECCENTRICITY_CEILING_DEG,
-            );
-            let q = 0.3 * e + 1.0;
-            fastmath::min(7.49 / (q * q), 1.0)
-        } else {
-            1.0
-        };
-        let threshold_cpd = scale * (g * m_factor);
+        let threshold_cpd = scale * (g * m_factor[i]);
         // Inside the sphere: k = inf keeps every frequency visible (LOD 0).
         // The size it is judged at multiplies in once the rung is known.
         let (d2, r) = (q.d2[i], q.radius[i]);
@@ -2018,6 +2109,7 @@ mod tests {
                     ladders: &sel.ladders,
                     object_profiles: &sel.object_profiles,
                     layout: sel.layout,
+                    motion_floor_cpd: sel.motion_floor_cpd,
                 },
                 frame,
                 frame.scale,
@@ -2053,6 +2145,16 @@ mod tests {
                 let mut velocity = 0.0;
                 if s.components.velocity {
                     let dir = p * inv_d;
+                    let dir = if c.world_velocity {
+                        let [a, b, d] = c.eye_to_world.to_cols_array_2d();
+                        Vec3::new(
+                            a[0] * dir.x + b[0] * dir.y + d[0] * dir.z,
+                            a[1] * dir.x + b[1] * dir.y + d[1] * dir.z,
+                            a[2] * dir.x + b[2] * dir.y + d[2] * dir.z,
+                        )
+                    } else {
+                        dir
+                    };
                     let before = self.velocity_deg_per_s[i];
                     let v = if before < 0.0 {
                         0.0
@@ -2069,16 +2171,23 @@ mod tests {
                     velocity = if i as u32 == c.pursued { 0.0 } else { v };
                 }
                 let g = if s.components.velocity {
-                    let v = velocity.clamp(VELOCITY_FLOOR_DEG_PER_S, VELOCITY_CEILING_DEG_PER_S);
-                    (57.69 - 27.78 * fastmath::log10(v)).clamp(MIN_ACUITY_CPD, MAX_ACUITY_CPD)
+                    let g = match s.velocity_model {
+                        VelocityModel::Kelly1979 => {
+                            crate::acuity::kelly_velocity_acuity_cpd(velocity)
+                        }
+                        VelocityModel::Reddy2001 => {
+                            let v = velocity
+                                .clamp(VELOCITY_FLOOR_DEG_PER_S, VELOCITY_CEILING_DEG_PER_S);
+                            (57.69 - 27.78 * fastmath::log10(v))
+                                .clamp(MIN_ACUITY_CPD, MAX_ACUITY_CPD)
+                        }
+                    };
+                    g.max(c.motion_floor_cpd)
                 } else {
                     MAX_ACUITY_CPD
                 };
                 let m = if s.components.eccentricity {
-                    let e =
-                        eccentricity_deg.clamp(ECCENTRICITY_FLOOR_DEG, ECCENTRICITY_CEILING_DEG);
-                    let q = 0.3 * e + 1.0;
-                    (7.49 / (q * q)).min(1.0)
+                    s.eccentricity_model.factor(eccentricity_deg)
                 } else {
                     1.0
                 };
@@ -2141,7 +2250,11 @@ mod tests {
         shared: bool,
     ) {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed);
-        let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+        // Every other seed on a sampled display, whose motion floor binds.
+        let refresh_hz = (seed % 2 == 1).then_some(90.0);
+        let display = Display::new([1920, 1080], [90.0, 58.7])
+            .and_then(|d| d.with_refresh_hz(refresh_hz))
+            .unwrap();
         let mut sel = Selector::new(display, settings);
         let mut profiles = vec![];
         for &(lods, views) in kinds {
@@ -2191,7 +2304,16 @@ mod tests {
                 },
                 gaze: Gaze {
                     pursued: Some(ids[f * 7 % ids.len()]),
-                    ..Gaze::at_screen_angles(5.0, -2.0, Tracker::eye_default())
+                    // Head tracking (its velocity in world axes) on every third seed.
+                    ..Gaze::at_screen_angles(
+                        5.0,
+                        -2.0,
+                        if seed % 3 == 2 {
+                            Tracker::Head
+                        } else {
+                            Tracker::eye_default()
+                        },
+                    )
                 },
                 dt_s: dt,
                 scale: if f == 4 { 0.3 } else { 1.0 },
@@ -2222,7 +2344,7 @@ mod tests {
 
     #[test]
     fn the_loop_matches_a_scalar_reference_bit_for_bit() {
-        for k in 0..32u64 {
+        for k in 0..64u64 {
             let settings = SelectorSettings {
                 components: Components {
                     size: k & 1 != 0,
@@ -2234,6 +2356,16 @@ mod tests {
                     ViewpointRule::WorstCase
                 } else {
                     ViewpointRule::Nearest
+                },
+                eccentricity_model: if k & 32 != 0 {
+                    EccentricityModel::Reddy2001
+                } else {
+                    EccentricityModel::CorticalMagnification
+                },
+                velocity_model: if k & 32 != 0 {
+                    VelocityModel::Reddy2001
+                } else {
+                    VelocityModel::Kelly1979
                 },
                 ..Default::default()
             };

@@ -1,4 +1,4 @@
-//! The fast selection loop (polynomial asin/acos/log10, cube-map viewpoint
+//! The fast selection loop (polynomial asin/acos/log10/exp2, cube-map viewpoint
 //! lookup, f32) against an exact oracle written from REFERENCE §2–§4 in
 //! f64 with the standard library's functions (the critical frequencies of
 //! the transitions, REFERENCE §8, are the library's own).
@@ -8,13 +8,16 @@ mod common;
 use acuity::csf::Csf;
 use acuity::rows::{FieldCsfs, transition_critical_cdiam};
 use acuity::{
-    Camera, Display, FrameInput, Gaze, ObjectDesc, Observer, Profile, Selector, SelectorSettings,
-    Tracker,
+    Camera, Display, EccentricityModel, FrameInput, Gaze, ObjectDesc, Observer, Profile, Selector,
+    SelectorSettings, Tracker, VelocityModel,
 };
 use common::{Rng, four_lod_profile};
 use glam::{DQuat, DVec3, Vec3};
 
 struct Oracle {
+    /// The eye model and the floor under `G` of sampled motion, c/deg.
+    models: (VelocityModel, EccentricityModel),
+    motion_floor_cpd: f64,
     /// Per viewpoint, per rung: prefix minima of the critical frequencies.
     rows: Vec<Vec<Vec<f64>>>,
     views: Vec<DVec3>,
@@ -23,9 +26,12 @@ struct Oracle {
 }
 
 impl Oracle {
-    fn new(p: &Profile, display: &Display) -> Self {
+    fn new(p: &Profile, display: &Display, models: (VelocityModel, EccentricityModel)) -> Self {
         let photometry = display.photometry();
         let csf = Csf::new(photometry, &Observer::default()).unwrap();
+        let motion_floor_cpd = display.refresh_hz().map_or(0.0, |hz| {
+            60.0 * f64::from(csf.sampled_motion_floor(photometry, hz))
+        });
         let mut csfs = FieldCsfs::new(&csf);
         let ppd = display.pixels_per_degree();
         let rows = (0..p.viewpoints.len())
@@ -85,6 +91,8 @@ impl Oracle {
             }
         }
         Self {
+            models,
+            motion_floor_cpd,
             rows,
             views,
             boundaries_deg,
@@ -122,18 +130,17 @@ impl Oracle {
                 .asin()
                 .to_degrees();
         let v = alpha * step / dt;
-        let g = if v <= 0.8257463 {
-            60.0
-        } else if v > 118.32436 {
-            0.1
-        } else {
-            57.69 - 27.78 * v.log10()
-        };
-        let e = ecc.min(80.0);
-        let m = if e <= 5.789288 {
-            1.0
-        } else {
-            7.49 / (0.3 * e + 1.0).powi(2)
+        let g = match self.models.0 {
+            VelocityModel::Reddy2001 if v <= 0.8257463 => 60.0,
+            VelocityModel::Reddy2001 if v > 118.32436 => 0.1,
+            VelocityModel::Reddy2001 => 57.69 - 27.78 * v.log10(),
+            VelocityModel::Kelly1979 => 60.0 * 2.15 / (v.max(0.15) + 2.0),
+        }
+        .max(self.motion_floor_cpd);
+        let m = match self.models.1 {
+            EccentricityModel::Reddy2001 if ecc <= 5.789288 => 1.0,
+            EccentricityModel::Reddy2001 => 7.49 / (0.3 * ecc.min(80.0) + 1.0).powi(2),
+            EccentricityModel::CorticalMagnification => (3.67 / (ecc + 3.67)).powf(0.604562),
         };
         let rung = self.boundaries_deg.iter().filter(|&&b| theta > b).count();
         // Judged at the top of the rung's range; at its own size on the
@@ -164,15 +171,28 @@ impl Oracle {
 
 #[test]
 fn fast_loop_picks_the_exact_models_lod() {
+    // The defaults: Kelly's G with a 60 Hz panel's floor, cortical M.
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+    fast_loop_matches_the_oracle(display, SelectorSettings::default());
+    // The papers' models with continuous motion.
+    let settings = SelectorSettings {
+        velocity_model: VelocityModel::Reddy2001,
+        eccentricity_model: EccentricityModel::Reddy2001,
+        ..SelectorSettings::default()
+    };
+    fast_loop_matches_the_oracle(display.with_refresh_hz(None).unwrap(), settings);
+}
+
+fn fast_loop_matches_the_oracle(display: Display, settings: SelectorSettings) {
     let profile = four_lod_profile(3);
-    let oracle = Oracle::new(&profile, &display);
+    let models = (settings.velocity_model, settings.eccentricity_model);
+    let oracle = Oracle::new(&profile, &display, models);
     let mut rng = Rng(2024);
     let mut selector = Selector::new(
         display,
         SelectorSettings {
             cull: false,
-            ..Default::default()
+            ..settings
         },
     );
     let p = selector.add_profile(&profile).unwrap();
@@ -236,7 +256,7 @@ fn fast_loop_picks_the_exact_models_lod() {
         }
     }
     println!(
-        "{agree} agree, {near_tie} differ within 1e-4 of a threshold, {clear_disagree} differ clearly; exact LODs {lod_counts:?}"
+        "{models:?}: {agree} agree, {near_tie} differ within 1e-4 of a threshold, {clear_disagree} differ clearly; exact LODs {lod_counts:?}"
     );
     assert_eq!(clear_disagree, 0);
     assert!(near_tie <= n / 10_000, "{near_tie} near-tie differences");

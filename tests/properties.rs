@@ -11,8 +11,8 @@ use acuity::acuity::{
 use acuity::csf::Csf;
 use acuity::select::lod_for_threshold;
 use acuity::{
-    Camera, Components, Display, FrameInput, Gaze, ObjectDesc, Observer, Photometry, Selector,
-    SelectorSettings, Tracker,
+    Camera, Components, Display, EccentricityModel, FrameInput, Gaze, ObjectDesc, Observer,
+    Photometry, Selector, SelectorSettings, Tracker, VelocityModel,
 };
 use common::four_lod_profile;
 use glam::{DVec3, Quat, Vec3};
@@ -49,6 +49,10 @@ proptest! {
         prop_assert!((0.1..=60.0).contains(&g));
         prop_assert!((0.0..=1.0).contains(&m) && m > 0.0);
         prop_assert!(h.is_finite() && h > 0.0);
+        for model in EccentricityModel::ALL {
+            let m = model.factor(e);
+            prop_assert!(m > 0.0 && m <= 1.0, "{model:?}: M({e}) = {m}");
+        }
         if xi.is_finite() {
             let t = threshold_cpd(h, xi, s);
             prop_assert!(t.is_finite());
@@ -60,6 +64,26 @@ proptest! {
         prop_assert!(velocity_acuity_cpd(v + dv) <= velocity_acuity_cpd(v));
         prop_assert!(eccentricity_factor(e + de) <= eccentricity_factor(e));
         prop_assert!(acuity_cpd(v + dv, e + de) <= acuity_cpd(v, e));
+        for model in EccentricityModel::ALL {
+            prop_assert!(model.factor(e + de) <= model.factor(e), "{model:?} at {e} + {de}");
+        }
+        for model in VelocityModel::ALL {
+            prop_assert!(model.acuity_cpd(v + dv) <= model.acuity_cpd(v), "{model:?} at {v} + {dv}");
+        }
+    }
+
+    #[test]
+    fn velocity_models_are_finite_and_continuous(v in any_f32(), eps in 1e-4f32..1e-2) {
+        for model in VelocityModel::ALL {
+            let g = model.acuity_cpd(v);
+            prop_assert!((0.0..=60.0).contains(&g), "{model:?}: G({v}) = {g}");
+        }
+        // Kelly's G has no breakpoint; |dG/dv| <= 60 / (v_d + 2) everywhere.
+        let kelly = VelocityModel::Kelly1979;
+        for v in [0.0f32, 0.15, 1.0, 10.0, 118.3, 500.0] {
+            let jump = (kelly.acuity_cpd(v + eps) - kelly.acuity_cpd(v)).abs();
+            prop_assert!(jump <= 60.0 / 2.15 * eps * 1.01 + 1e-5, "G_K jumps {} at {}", jump, v);
+        }
     }
 
     #[test]
@@ -115,6 +139,13 @@ proptest! {
         let bp = ECCENTRICITY_FLOOR_DEG;
         let jump = (eccentricity_factor(bp + eps) - eccentricity_factor(bp - eps)).abs();
         prop_assert!(jump <= 0.25 * 2.0 * eps + 1e-6, "M jumps {} at {}", jump, bp);
+        // Cortical magnification has no breakpoint; its steepest slope,
+        // k_cm / e_2 = 0.165 per deg, is at the fovea.
+        let cortical = EccentricityModel::CorticalMagnification;
+        for e in [0.0f32, 1.0, 3.67, 10.0, 90.0] {
+            let jump = (cortical.factor(e + eps) - cortical.factor(e)).abs();
+            prop_assert!(jump <= 0.17 * eps + 1e-6, "M_cm jumps {} at {}", jump, e);
+        }
     }
 }
 
@@ -130,6 +161,8 @@ struct Case {
     dt: f32,
     scale: f32,
     gaze: Vec3,
+    /// Bits: size, velocity, eccentricity on; Reddy 2001's `M(E)` and `G(v)`
+    /// instead of cortical magnification and Kelly 1979; a 90 Hz display.
     components: u8,
     move_by: Vec3,
     cull: bool,
@@ -161,7 +194,7 @@ fn case() -> impl Strategy<Value = Case> {
         any_f32(),
         prop_oneof![1e-6f32..1.0, Just(1.0f32), 1f32..10.0],
         (-1f32..1.0, -1f32..1.0, -1f32..0.1),
-        0u8..8,
+        0u8..32,
         (-100f32..100.0, -100f32..100.0, -100f32..100.0),
         any::<bool>(),
     )
@@ -187,11 +220,22 @@ fn case() -> impl Strategy<Value = Case> {
 }
 
 fn run_case(c: &Case) -> (acuity::Selection, acuity::Diagnostics) {
-    let display = Display::new([1920, 1080], c.fov_deg).unwrap();
+    let refresh_hz = (c.components & 16 != 0).then_some(90.0);
+    let display = Display::new([1920, 1080], c.fov_deg)
+        .and_then(|d| d.with_refresh_hz(refresh_hz))
+        .unwrap();
     let components = Components {
         size: c.components & 1 != 0,
         velocity: c.components & 2 != 0,
         eccentricity: c.components & 4 != 0,
+    };
+    let (eccentricity_model, velocity_model) = if c.components & 8 != 0 {
+        (EccentricityModel::Reddy2001, VelocityModel::Reddy2001)
+    } else {
+        (
+            EccentricityModel::CorticalMagnification,
+            VelocityModel::Kelly1979,
+        )
     };
     // Compiling a profile builds its viewpoint lookup: do that once per
     // settings and clone.
@@ -206,6 +250,8 @@ fn run_case(c: &Case) -> (acuity::Selection, acuity::Diagnostics) {
                 let settings = SelectorSettings {
                     components,
                     cull: c.cull,
+                    eccentricity_model,
+                    velocity_model,
                     ..Default::default()
                 };
                 let mut sel = Selector::new(display, settings);

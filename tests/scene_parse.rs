@@ -14,6 +14,21 @@ use std::path::{Path, PathBuf};
 use acuity::tools::scene::{MeshSource, Policy, Scene, SceneError};
 use proptest::prelude::*;
 
+/// The smallest valid scene: one procedural object on a straight path.
+const MINIMAL_SCENE: &str = r#"
+[display]
+resolution = [640, 480]
+fov_deg = [43.6, 33.4]
+
+[[objects]]
+name = "ball"
+procedural = { kind = "sphere", triangles = [320, 80] }
+
+[camera]
+duration_s = 2.0
+forward_speed_m_per_s = 1.0
+"#;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -108,23 +123,14 @@ fn vr_sweep_reaches_200_deg_per_s() {
 fn profiles_table_is_read_and_flags_override_it() {
     use acuity::tools::scene::ProfileSpec;
     use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
-    let text = r#"
-[display]
-resolution = [640, 480]
-fov_deg = [43.6, 33.4]
-
-[[objects]]
-name = "ball"
-procedural = { kind = "sphere", triangles = [320, 80] }
-
-[camera]
-duration_s = 2.0
-forward_speed_m_per_s = 1.0
-
+    let text = &format!(
+        "{MINIMAL_SCENE}{}",
+        r#"
 [profiles]
 statistic = "thickness"
 threshold_delta_e = 8.0
-"#;
+"#
+    );
     let scene = Scene::parse(text, "inline.toml").unwrap_or_else(|e| panic!("{e}"));
     let spec = scene.profiles;
     assert_eq!(spec.statistic, Some(FrequencyStatistic::Thickness));
@@ -153,6 +159,45 @@ threshold_delta_e = 8.0
     .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(plain.profiles, ProfileSpec::default());
     assert_eq!(plain.profiles.analysis_settings(), defaults);
+}
+
+#[test]
+fn observer_table_chooses_the_eye_models_and_display_its_refresh_rate() {
+    let text = MINIMAL_SCENE;
+    let plain = Scene::parse(text, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        plain.eccentricity_model,
+        acuity::EccentricityModel::CorticalMagnification
+    );
+    assert_eq!(plain.velocity_model, acuity::VelocityModel::Kelly1979);
+    assert_eq!(plain.display.refresh_hz, Some(60.0));
+    let reddy = format!(
+        "{text}\n[observer]\neccentricity_model = \"reddy2001\"\nvelocity_model = \"reddy2001\"\n"
+    );
+    let reddy = Scene::parse(&reddy, "reddy.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        reddy.eccentricity_model,
+        acuity::EccentricityModel::Reddy2001
+    );
+    assert_eq!(reddy.velocity_model, acuity::VelocityModel::Reddy2001);
+    let sampled = text.replace(
+        "fov_deg = [43.6, 33.4]",
+        "fov_deg = [43.6, 33.4]\nrefresh_hz = 90",
+    );
+    let sampled = Scene::parse(&sampled, "sampled.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(sampled.display.refresh_hz, Some(90.0));
+    let continuous = text.replace(
+        "fov_deg = [43.6, 33.4]",
+        "fov_deg = [43.6, 33.4]\ncontinuous_motion = true",
+    );
+    let continuous = Scene::parse(&continuous, "continuous.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(continuous.display.refresh_hz, None);
+    let both = text.replace(
+        "fov_deg = [43.6, 33.4]",
+        "fov_deg = [43.6, 33.4]\ncontinuous_motion = true\nrefresh_hz = 90",
+    );
+    let err = Scene::parse(&both, "both.toml").unwrap_err().to_string();
+    assert!(err.contains("display.continuous_motion"), "{err}");
 }
 
 #[test]

@@ -209,7 +209,9 @@ fn velocity_resolves_a_tenth_of_a_degree_per_second_at_90_hz() {
 
 #[test]
 fn a_pursued_object_has_no_retinal_velocity() {
-    let mut sel = Selector::new(display(), SelectorSettings::default());
+    // Continuous motion: on a sampled display the floor would bind.
+    let continuous = display().with_refresh_hz(None).unwrap();
+    let mut sel = Selector::new(continuous, SelectorSettings::default());
     let p = sel.add_profile(&four_lod_profile(3)).unwrap();
     let desc = |x| ObjectDesc {
         center: DVec3::new(x, 0.0, -10.0),
@@ -240,6 +242,63 @@ fn a_pursued_object_has_no_retinal_velocity() {
         "{dp:?} {d_other:?}"
     );
     assert!(sel.selection(pursued).lod() <= sel.selection(other).lod());
+    // On a 60 Hz panel the moving object is seen as still frames: its
+    // threshold stays at the floor, far above continuous motion's.
+    let sampled = display();
+    assert_eq!(sampled.refresh_hz(), Some(60.0));
+    sel.set_display(sampled);
+    sel.select_with_diagnostics(&frame).unwrap();
+    let floored = sel.diagnostics(other).unwrap().threshold_cpd;
+    assert!(
+        floored > 5.0 * d_other.threshold_cpd,
+        "{floored} {d_other:?}"
+    );
+    assert!(floored <= sel.diagnostics(pursued).unwrap().threshold_cpd);
+}
+
+#[test]
+fn with_head_tracking_a_pure_head_turn_leaves_world_fixed_detail_unchanged() {
+    // Size and velocity only: eccentricity changes as objects move in view.
+    let components = Components {
+        eccentricity: false,
+        ..Components::ALL
+    };
+    for eyes_counter_rotate in [true, false] {
+        let settings = SelectorSettings {
+            components,
+            eyes_counter_rotate,
+            cull: false,
+            ..SelectorSettings::default()
+        };
+        let (mut sel, ids) = random_scene(settings, 200, 11, DVec3::ZERO);
+        let turned = |yaw_deg: f32| FrameInput {
+            camera: Camera {
+                position: DVec3::ZERO,
+                orientation: Quat::from_rotation_y(yaw_deg.to_radians()),
+            },
+            gaze: Gaze::screen_centre(Tracker::Head),
+            dt_s: 1.0 / 90.0,
+            scale: 1.0,
+        };
+        sel.select(&turned(0.0)).unwrap();
+        let still = lods(&sel, &ids);
+        let mut fastest = 0.0f32;
+        // A 120 deg/s head turn over half a second.
+        for f in 1..=45 {
+            sel.select_with_diagnostics(&turned(f as f32 * 120.0 / 90.0))
+                .unwrap();
+            for &id in &ids {
+                fastest = fastest.max(sel.diagnostics(id).unwrap().velocity_deg_per_s);
+            }
+        }
+        if eyes_counter_rotate {
+            assert!(fastest < 1e-2, "{fastest} deg/s");
+            assert_eq!(lods(&sel, &ids), still);
+        } else {
+            assert!(fastest > 100.0, "{fastest} deg/s");
+            assert_ne!(lods(&sel, &ids), still);
+        }
+    }
 }
 
 #[test]
@@ -356,8 +415,9 @@ fn diagnostics_follow_the_geometry() {
         "{d:?}"
     );
     assert_eq!(d.velocity_deg_per_s, 0.0);
-    let h = acuity::acuity::acuity_cpd(0.0, d.eccentricity_deg);
-    assert!((d.threshold_cpd - h.min(display().max_frequency_cpd())).abs() < 1e-4);
+    let h = 60.0 * acuity::EccentricityModel::CorticalMagnification.factor(d.eccentricity_deg);
+    // T = s H: the display's limit is in the profile's renderings.
+    assert!((d.threshold_cpd - h).abs() < 1e-4, "{d:?} {h}");
     // Head tracking subtracts 15 deg instead.
     frame.gaze = Gaze::screen_centre(Tracker::Head);
     sel.select_with_diagnostics(&frame).unwrap();

@@ -1,5 +1,9 @@
 //! Indexed triangle meshes and the OBJ/MTL loader.
 //!
+//! The loader is our own rather than `tobj`: tobj 4.0.5 panics on a short
+//! colour such as `Kd 0.5 0.5` and reports no line numbers, and a bad asset
+//! must give a clear error naming its file and line, never a panic.
+//!
 //! # Loading rules (decided here; see the tests in `tests/bad_obj.rs`)
 //! - **Text**: UTF-8 (a BOM is skipped), UTF-16 LE/BE with a BOM (decoded),
 //!   anything else is read byte-wise with invalid UTF-8 replaced (so Latin-1

@@ -238,6 +238,7 @@ impl World {
         let [fh, fv] = scene.display.fov_deg;
         let display = Display::new([w, h], [fh as f32, fv as f32])
             .and_then(|d| d.with_photometry(scene.display.photometry()?))
+            .and_then(|d| d.with_refresh_hz(scene.display.refresh_hz.map(|hz| hz as f32)))
             .with_context(|| format!("{}: display", scene.source_path.display()))?;
         let sources = scene
             .objects

@@ -99,6 +99,10 @@ pub struct GazeSpec {
     /// [`Tracker::default_error_deg`], or the scene's `eye_error_deg` (which
     /// only the eye tracker takes).
     pub tracker_error_deg: f64,
+    /// With the head tracker: the eyes counter-rotate during head turns
+    /// (`eyes_counter_rotate`, default true; see
+    /// [`crate::SelectorSettings::eyes_counter_rotate`]).
+    pub eyes_counter_rotate: bool,
 }
 
 impl Default for GazeSpec {
@@ -107,6 +111,7 @@ impl Default for GazeSpec {
             mode: GazeMode::ScreenCentre,
             tracker: Tracker::None,
             tracker_error_deg: 0.0,
+            eyes_counter_rotate: true,
         }
     }
 }

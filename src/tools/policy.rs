@@ -75,6 +75,9 @@ impl PolicyRunner {
         let settings = SelectorSettings {
             components: components(policy).unwrap_or(Components::ALL),
             observer: world.scene.observer,
+            eccentricity_model: world.scene.eccentricity_model,
+            velocity_model: world.scene.velocity_model,
+            eyes_counter_rotate: world.scene.gaze.eyes_counter_rotate,
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);

@@ -206,6 +206,10 @@ pub struct Scene {
     pub profiles: ProfileSpec,
     /// The viewer's contrast sensitivity calibration (`[observer]`).
     pub observer: crate::Observer,
+    /// How acuity falls with eccentricity (`[observer] eccentricity_model`).
+    pub eccentricity_model: crate::EccentricityModel,
+    /// How acuity falls with retinal velocity (`[observer] velocity_model`).
+    pub velocity_model: crate::VelocityModel,
 }
 
 /// How profiles are made (`[profiles]`, or the matching command-line flags);
@@ -277,6 +281,11 @@ pub struct DisplaySpec {
     pub contrast_ratio: f64,
     /// Ambient light on the screen, lux (default 250: an office).
     pub ambient_lux: f64,
+    /// Refresh rate of the sample-and-hold panel, Hz (`refresh_hz`, in
+    /// `[1, 10000]`, default 60); `None` with `continuous_motion = true`
+    /// (motion as the velocity models measured it, for the papers'
+    /// experiments).
+    pub refresh_hz: Option<f64>,
 }
 
 impl DisplaySpec {
@@ -570,6 +579,8 @@ struct RawDisplay {
     peak_luminance_cd_m2: Option<f64>,
     contrast_ratio: Option<f64>,
     ambient_lux: Option<f64>,
+    refresh_hz: Option<f64>,
+    continuous_motion: Option<bool>,
 }
 
 #[derive(Deserialize, Default)]
@@ -577,6 +588,8 @@ struct RawDisplay {
 struct RawObserver {
     sensitivity: Option<f32>,
     masking: Option<f32>,
+    eccentricity_model: Option<crate::EccentricityModel>,
+    velocity_model: Option<crate::VelocityModel>,
 }
 
 #[derive(Deserialize)]
@@ -693,6 +706,7 @@ struct RawGaze {
     #[serde(default)]
     tracker: Tracker,
     eye_error_deg: Option<f64>,
+    eyes_counter_rotate: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -844,7 +858,10 @@ impl<'t> Ctx<'t> {
         let gaze = self.gaze(raw.gaze.unwrap_or_default(), &objects)?;
         let run = self.run(raw.run.unwrap_or_default(), camera.duration_s)?;
         let profiles = self.profiles(raw.profiles.unwrap_or_default())?;
-        let observer = self.observer(raw.observer.unwrap_or_default())?;
+        let raw_observer = raw.observer.unwrap_or_default();
+        let eccentricity_model = raw_observer.eccentricity_model.unwrap_or_default();
+        let velocity_model = raw_observer.velocity_model.unwrap_or_default();
+        let observer = self.observer(raw_observer)?;
         Ok(Scene {
             source_path: self.path.clone(),
             display,
@@ -854,6 +871,8 @@ impl<'t> Ctx<'t> {
             run,
             profiles,
             observer,
+            eccentricity_model,
+            velocity_model,
         })
     }
 
@@ -977,7 +996,25 @@ impl<'t> Ctx<'t> {
             peak_luminance_cd_m2: d.peak_luminance_cd_m2.unwrap_or(200.0),
             contrast_ratio: d.contrast_ratio.unwrap_or(1000.0),
             ambient_lux: d.ambient_lux.unwrap_or(250.0),
+            refresh_hz: match (d.continuous_motion, d.refresh_hz) {
+                (Some(true), Some(_)) => {
+                    return Err(self.invalid(
+                        "display.continuous_motion",
+                        "give refresh_hz or continuous_motion = true, not both",
+                    ));
+                }
+                (Some(true), None) => None,
+                (_, hz) => Some(hz.unwrap_or(f64::from(crate::display::DEFAULT_REFRESH_HZ))),
+            },
         };
+        if let Some(hz) = spec.refresh_hz
+            && !(1.0..=10_000.0).contains(&hz)
+        {
+            return Err(self.invalid(
+                "display.refresh_hz",
+                format!("{hz} Hz is outside [1, 10000]"),
+            ));
+        }
         match spec.photometry() {
             Err(crate::Error::InvalidParameter { name, reason }) => {
                 let key = match name {
@@ -1404,10 +1441,17 @@ impl<'t> Ctx<'t> {
                 format!("{tracker_error_deg} deg must be in [0, 90)"),
             ));
         }
+        if g.eyes_counter_rotate.is_some() && g.tracker != Tracker::Head {
+            return Err(self.invalid(
+                "gaze.eyes_counter_rotate",
+                "applies to tracker = \"head\" only (eye trackers report the gaze; without tracking, camera turns move the display's content)",
+            ));
+        }
         Ok(GazeSpec {
             mode,
             tracker: g.tracker,
             tracker_error_deg,
+            eyes_counter_rotate: g.eyes_counter_rotate.unwrap_or(true),
         })
     }
 
