@@ -239,6 +239,43 @@ fn names_sharing_a_profile_file_are_refused_as_by_preprocess() {
     assert!(!cache.join("a_b.acp").exists());
 }
 
+#[test]
+fn work_that_cannot_fit_in_memory_is_refused_before_it_starts() {
+    let dir = scratch("memory");
+    // 10M frames with a 1024x1024 reference image every frame: 40 TiB.
+    let scene = TINY
+        .replace("resolution = [160, 120]", "resolution = [1024, 1024]")
+        .replace(
+            "frames = 4\nflip_every_n_frames = 2",
+            "frames = 10000000\nflip_every_n_frames = 1",
+        );
+    let s = dir.join("s.toml");
+    std::fs::write(&s, scene).unwrap();
+    let cache = dir.join("cache");
+    let o = acuity_within(
+        &[
+            "run",
+            s.to_str().unwrap(),
+            "--cache-dir",
+            cache.to_str().unwrap(),
+            "--quiet",
+            "--profile-resolution",
+            "64",
+            "--profile-viewpoints",
+            "0",
+            "--policies",
+            "full,screen_size",
+        ],
+        300,
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("10000000 frames x 2 policies at 1024x1024 pixels needs about"),
+        "{stderr}"
+    );
+}
+
 /// Runs `acuity` and fails the test if it has not finished in `limit_s`.
 fn acuity_within(args: &[&str], limit_s: u64) -> std::process::Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_acuity"))

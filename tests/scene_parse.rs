@@ -162,6 +162,27 @@ threshold_delta_e = 8.0
 }
 
 #[test]
+fn screen_size_table_and_foveation_are_read_from_the_run_table() {
+    let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        plain.run.screen_size_thresholds,
+        acuity::tools::screen_size::DEFAULT_THRESHOLDS_4.to_vec()
+    );
+    assert!(!plain.run.screen_size_foveated);
+    let text = format!(
+        "{MINIMAL_SCENE}\n[run]\nscreen_size_thresholds = [0.6, 0.15, 0.04]\nscreen_size_foveated = true\n"
+    );
+    let scene = Scene::parse(&text, "table.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.run.screen_size_thresholds, vec![0.6, 0.15, 0.04]);
+    assert!(scene.run.screen_size_foveated);
+    for bad in ["[]", "[0.5, -0.1]", "[0.5, nan]"] {
+        let text = format!("{MINIMAL_SCENE}\n[run]\nscreen_size_thresholds = {bad}\n");
+        let err = Scene::parse(&text, "bad.toml").expect_err(bad).to_string();
+        assert!(err.contains("run.screen_size_thresholds"), "{bad}: {err}");
+    }
+}
+
+#[test]
 fn observer_table_chooses_the_eye_models_and_display_its_refresh_rate() {
     let text = MINIMAL_SCENE;
     let plain = Scene::parse(text, "plain.toml").unwrap_or_else(|e| panic!("{e}"));

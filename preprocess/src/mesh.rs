@@ -137,12 +137,17 @@ impl Mesh {
             return ([0.0; 3], 0.0);
         }
         let c = (lo + hi) * 0.5;
+        // In f64: a squared f32 distance underflows below about 1e-19.
         let r = self
             .indices
             .iter()
-            .map(|&i| Vec3::from(self.positions[i as usize]).distance(c))
-            .fold(0.0f32, f32::max);
-        (c.into(), r)
+            .map(|&i| {
+                Vec3::from(self.positions[i as usize])
+                    .as_dvec3()
+                    .distance(c.as_dvec3())
+            })
+            .fold(0.0f64, f64::max);
+        (c.into(), r as f32)
     }
 
     /// Replaces `normals` by smooth area-weighted normals, summed over all
@@ -637,6 +642,16 @@ mod tests {
             .mesh;
         assert_eq!(m.indices, vec![0, 1, 2]);
         assert_eq!(m.colors[1], [0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_tiny_mesh_keeps_its_radius() {
+        let m = parse("v 0 0 0\nv 1e-30 0 0\nv 0 1e-30 0\nf 1 2 3\n")
+            .unwrap()
+            .mesh;
+        let (_, r) = m.bounding_sphere();
+        let want = 0.5e-30 * std::f32::consts::SQRT_2;
+        assert!((r / want - 1.0).abs() < 1e-5, "{r}");
     }
 
     #[test]

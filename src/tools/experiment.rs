@@ -84,6 +84,16 @@ pub struct ErrorArgs {
     /// to `<out>/frames/` without --dump-frames).
     #[arg(long, value_delimiter = ',', default_value = "flip")]
     pub metric: Vec<Metric>,
+    /// Screen size's thresholds, relative screen heights, comma-separated,
+    /// strictly decreasing (default: the scene's `run.screen_size_thresholds`,
+    /// else 0.6,0.3,0.1,0.03).
+    #[arg(long, value_delimiter = ',')]
+    pub screen_size_thresholds: Option<Vec<f64>>,
+    /// Weight screen size's relative heights by the observer's
+    /// eccentricity factor at each object's angle from the gaze (a foveated
+    /// screen-size baseline; default: the scene's `run.screen_size_foveated`).
+    #[arg(long)]
+    pub screen_size_foveated: bool,
     /// Options every experiment shares.
     #[command(flatten)]
     pub common: CommonArgs,
@@ -183,7 +193,13 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if fvvdp {
         check_fvvdp()?;
     }
-    let world = args.common.load(&args.scene)?;
+    let mut world = args.common.load(&args.scene)?;
+    if let Some(table) = &args.screen_size_thresholds {
+        super::screen_size::check_table(table)
+            .map_err(|e| anyhow::anyhow!("--screen-size-thresholds: {e}"))?;
+        world.scene.run.screen_size_thresholds = table.clone();
+    }
+    world.scene.run.screen_size_foveated |= args.screen_size_foveated;
     let out = args.common.out_dir("error")?;
     let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
     settings.flip_every_n_frames = if flip { args.flip_every } else { 0 };

@@ -15,6 +15,11 @@
 //! | load spikes | 0 to [`MAX_SPIKE_LOAD`] (10) frame budgets | `--spike-load` |
 //! | scale factor `s` | (0, 1]; below [`MIN_SCALE`] (`f32`'s smallest normal, 1.2e-38) it selects as `MIN_SCALE`: the coarsest LODs | `run.scale_factor`, `--scales` |
 //!
+//! Before a run or an experiment plays its frames, the memory it will keep
+//! (each frame's record per policy, the full-detail images FLIP compares
+//! against, the kept worst frames: [`play_memory_bytes`]) is estimated and
+//! the work refused when it exceeds the memory available.
+//!
 //! The full-detail triangle count is estimated from the scene file (the
 //! first target of `procedural` and `generate_triangles` LODs) when it is
 //! read, and checked again with the loaded meshes before anything is
@@ -106,6 +111,55 @@ pub fn check_scene_triangles<'a>(
     Ok(())
 }
 
+/// What a play of `frames` frames under `configs` policy configurations
+/// at `width` x `height` pixels keeps in memory, bytes: every frame's
+/// record per configuration (`record_bytes` each), the full-detail
+/// reference image of every `flip_every`-th frame (none for 0), and with
+/// `keep_images` each configuration's worst frame and its FLIP map.
+/// Saturates instead of overflowing.
+pub fn play_memory_bytes(
+    frames: u64,
+    configs: u64,
+    record_bytes: u64,
+    [width, height]: [u32; 2],
+    flip_every: u32,
+    keep_images: bool,
+) -> u64 {
+    let pixels = u64::from(width) * u64::from(height);
+    let records = frames.saturating_mul(configs).saturating_mul(record_bytes);
+    let references = match flip_every {
+        0 => 0,
+        n => frames.div_ceil(u64::from(n)).saturating_mul(pixels * 4),
+    };
+    let worst = if keep_images {
+        configs.saturating_mul(pixels * 7)
+    } else {
+        0
+    };
+    records.saturating_add(references).saturating_add(worst)
+}
+
+/// Refuses work that needs more than the memory the system has available
+/// now (`MemAvailable` of `/proc/meminfo`; where that cannot be read,
+/// nothing is refused). `what` describes the work in the message.
+pub fn check_memory(needed_bytes: u64, what: &str) -> Result<(), String> {
+    match available_memory_bytes() {
+        Some(available) if needed_bytes > available => Err(format!(
+            "{what} needs about {} MiB, more than the {} MiB available",
+            needed_bytes >> 20,
+            available >> 20
+        )),
+        _ => Ok(()),
+    }
+}
+
+fn available_memory_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib.saturating_mul(1024))
+}
+
 /// Parses a target frame rate flag, Hz (see [`check_target_hz`]).
 pub fn parse_target_hz(text: &str) -> Result<f64, String> {
     let hz: f64 = text
@@ -149,6 +203,26 @@ mod tests {
         assert_eq!(parse_spike_load("0.5"), Ok(0.5));
         assert!(check_dt_s(1e-300).is_err() && check_dt_s(1e300).is_err());
         assert!(check_dt_s(f64::NAN).is_err() && check_dt_s(0.05).is_ok());
+    }
+
+    #[test]
+    fn play_memory_counts_records_references_and_kept_frames() {
+        let px = 640 * 480;
+        assert_eq!(play_memory_bytes(100, 3, 10, [640, 480], 0, false), 3000);
+        assert_eq!(
+            play_memory_bytes(100, 3, 10, [640, 480], 10, true),
+            3000 + 10 * px * 4 + 3 * px * 7
+        );
+        let huge = play_memory_bytes(u64::MAX, 9, 128, [16384, 16384], 1, true);
+        assert_eq!(huge, u64::MAX);
+        if cfg!(target_os = "linux") {
+            let e = check_memory(u64::MAX, "this run").unwrap_err();
+            assert!(
+                e.starts_with("this run needs about") && e.contains("MiB available"),
+                "{e}"
+            );
+        }
+        assert!(check_memory(1, "a small run").is_ok());
     }
 
     #[test]

@@ -10,7 +10,9 @@
 use super::frames::{FrameView, World};
 use super::limits::MIN_SCALE;
 use super::scene::Policy;
-use super::screen_size::{ScreenSizeChoice, ScreenSizeLod, relative_height};
+use super::screen_size::{
+    BelowLast, ScreenSizeChoice, ScreenSizeLod, relative_height, thresholds_from,
+};
 use crate::{
     Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler, ReactiveSettings,
     Selector, SelectorSettings,
@@ -114,11 +116,12 @@ impl PolicyRunner {
             .objects
             .iter()
             .map(|o| {
-                ScreenSizeLod::with_defaults(o.meshes.len())
-                    .with_bias(screen_size_bias)
-                    .ok_or_else(|| {
-                        anyhow::anyhow!("screen-size bias {screen_size_bias} is not > 0")
-                    })
+                ScreenSizeLod::new(
+                    thresholds_from(&world.scene.run.screen_size_thresholds, o.meshes.len()),
+                    screen_size_bias,
+                    BelowLast::KeepCoarsest,
+                )
+                .map_err(|e| anyhow::anyhow!("screen-size policy: {e}"))
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;
@@ -205,8 +208,17 @@ impl PolicyRunner {
                 _ if sel.is_culled() => None,
                 Policy::Full => Some(0),
                 Policy::ScreenSize => {
-                    let d = (inst.center_m - view.eye_m).length();
-                    let h = relative_height(inst.radius_m, d, fov_v);
+                    let to_object_m = inst.center_m - view.eye_m;
+                    let mut h = relative_height(inst.radius_m, to_object_m.length(), fov_v);
+                    if world.scene.run.screen_size_foveated {
+                        let in_camera = view.orientation.inverse() * to_object_m;
+                        let eccentricity_deg = in_camera.angle_between(view.gaze_camera);
+                        let m = world
+                            .scene
+                            .eccentricity_model
+                            .factor(eccentricity_deg.to_degrees() as f32);
+                        h *= f64::from(m);
+                    }
                     match self.screen[inst.object].select_relative_height(h) {
                         ScreenSizeChoice::Lod(l) => Some(l),
                         ScreenSizeChoice::Culled => None,

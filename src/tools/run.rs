@@ -312,6 +312,25 @@ impl<'w> Player<'w> {
         calibration_bias: f64,
     ) -> anyhow::Result<Vec<PolicyRun>> {
         let world = self.world;
+        let needed = super::limits::play_memory_bytes(
+            u64::from(self.settings.frames),
+            configs.len() as u64,
+            std::mem::size_of::<FrameRecord>() as u64,
+            world.scene.display.resolution_px,
+            self.settings.flip_every_n_frames,
+            self.settings.keep_images,
+        );
+        super::limits::check_memory(
+            needed,
+            &format!(
+                "{} frames x {} policies at {}x{} pixels",
+                self.settings.frames,
+                configs.len(),
+                world.scene.display.resolution_px[0],
+                world.scene.display.resolution_px[1]
+            ),
+        )
+        .map_err(|e| anyhow::anyhow!("{e}: use fewer frames, policies or pixels"))?;
         let cost = self.calibrate(calibration_bias)?;
         let mut runners = configs
             .iter()

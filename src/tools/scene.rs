@@ -44,6 +44,9 @@
 //! policies = ["full", "screen_size", "acuity_all"]
 //! frames = 300                       # or dt_s = 0.0166; default 1 / target_hz
 //! flip_every_n_frames = 10
+//! screen_size_bias = 1.0
+//! screen_size_thresholds = [0.6, 0.3, 0.1, 0.03]  # relative heights, one per LOD
+//! screen_size_foveated = false       # weight screen size by M(E) at the gaze
 //!
 //! [profiles]                         # optional; how the offline pass analyses
 //! resolution = 512                   # the size ladder's largest rung, pixels
@@ -487,6 +490,15 @@ pub struct RunSpec {
     pub flip_every_n_frames: u32,
     /// Bias of the screen-size policy (> 0; default 1).
     pub screen_size_bias: f64,
+    /// The screen-size policy's thresholds, relative screen heights
+    /// (strictly decreasing, > 0; an object with more LODs continues the
+    /// table by [`super::screen_size::DEFAULT_THRESHOLD_RATIO`]); default
+    /// [`super::screen_size::DEFAULT_THRESHOLDS_4`].
+    pub screen_size_thresholds: Vec<f64>,
+    /// Whether the screen-size policy weights each object's relative height
+    /// by the observer's eccentricity factor `M(E)` at the object's angle
+    /// from the gaze (a foveated screen-size baseline; default false).
+    pub screen_size_foveated: bool,
     /// Acuity's global scale factor `s` in (0, 1] (default 1); the schedulers
     /// start from it.
     pub scale_factor: f64,
@@ -725,6 +737,8 @@ struct RawRun {
     dt_s: Option<f64>,
     flip_every_n_frames: Option<u32>,
     screen_size_bias: Option<f64>,
+    screen_size_thresholds: Option<Vec<f64>>,
+    screen_size_foveated: Option<bool>,
     scale_factor: Option<f64>,
 }
 
@@ -1528,6 +1542,11 @@ impl<'t> Ctx<'t> {
                 format!("{screen_size_bias} must be > 0"),
             ));
         }
+        let screen_size_thresholds = r
+            .screen_size_thresholds
+            .unwrap_or_else(|| super::screen_size::DEFAULT_THRESHOLDS_4.to_vec());
+        super::screen_size::check_table(&screen_size_thresholds)
+            .map_err(|e| self.invalid("run.screen_size_thresholds", e.to_string()))?;
         let scale_factor = r.scale_factor.unwrap_or(1.0);
         if !(scale_factor > 0.0 && scale_factor <= 1.0) {
             return Err(self.invalid(
@@ -1542,6 +1561,8 @@ impl<'t> Ctx<'t> {
             frames,
             flip_every_n_frames: r.flip_every_n_frames.unwrap_or(10),
             screen_size_bias,
+            screen_size_thresholds,
+            screen_size_foveated: r.screen_size_foveated.unwrap_or(false),
             scale_factor,
         })
     }

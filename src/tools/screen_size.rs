@@ -67,13 +67,33 @@ pub fn relative_height(radius_m: f64, distance_m: f64, fov_v_deg: f64) -> f64 {
 /// [`DEFAULT_THRESHOLDS_4`], continued past four by multiplying by
 /// [`DEFAULT_THRESHOLD_RATIO`]. Empty for zero LODs.
 pub fn default_thresholds(n_lods: usize) -> Vec<f64> {
-    let mut t: Vec<f64> = DEFAULT_THRESHOLDS_4.iter().copied().take(n_lods).collect();
+    thresholds_from(&DEFAULT_THRESHOLDS_4, n_lods)
+}
+
+/// A table for `n_lods` LODs from `table` (strictly decreasing, > 0, at
+/// least one entry): its first `n` entries, continued past its end by
+/// multiplying by [`DEFAULT_THRESHOLD_RATIO`]. Empty for zero LODs.
+pub fn thresholds_from(table: &[f64], n_lods: usize) -> Vec<f64> {
+    let mut t: Vec<f64> = table.iter().copied().take(n_lods).collect();
     while t.len() < n_lods {
         let last = t.last().copied().unwrap_or(DEFAULT_THRESHOLDS_4[0]);
         t.push(last * DEFAULT_THRESHOLD_RATIO);
     }
     t
 }
+
+/// Checks a threshold table as [`ScreenSizeLod::new`] does (finite, > 0,
+/// strictly decreasing), and that it has between 1 and
+/// [`MAX_TABLE_ENTRIES`] entries.
+pub fn check_table(table: &[f64]) -> Result<(), ScreenSizeError> {
+    if table.is_empty() || table.len() > MAX_TABLE_ENTRIES {
+        return Err(ScreenSizeError::TableLength(table.len()));
+    }
+    ScreenSizeLod::new(table.to_vec(), 1.0, BelowLast::KeepCoarsest).map(|_| ())
+}
+
+/// The most entries a threshold table may have.
+pub const MAX_TABLE_ENTRIES: usize = 64;
 
 /// What to do with objects below the last threshold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -131,6 +151,9 @@ pub enum ScreenSizeError {
     /// The bias is not finite and positive.
     #[error("bias = {0} must be finite and > 0")]
     Bias(f64),
+    /// A threshold table with no entries or more than [`MAX_TABLE_ENTRIES`].
+    #[error("{0} thresholds: a table has 1 to {MAX_TABLE_ENTRIES}")]
+    TableLength(usize),
 }
 
 /// A Unity-LODGroup-style screen-size policy for one LOD chain.
@@ -266,6 +289,30 @@ mod tests {
         let six = default_thresholds(6);
         assert!((six[5] - 0.03 * 0.3 * 0.3).abs() < 1e-15);
         assert!(ScreenSizeLod::new(six, 1.0, BelowLast::Cull).is_ok());
+    }
+
+    #[test]
+    fn a_custom_table_is_cut_or_continued_and_checked() {
+        let table = [0.6, 0.15, 0.04];
+        assert_eq!(thresholds_from(&table, 2), vec![0.6, 0.15]);
+        let five = thresholds_from(&table, 5);
+        assert!((five[4] - 0.04 * 0.3 * 0.3).abs() < 1e-15, "{five:?}");
+        assert!(check_table(&table).is_ok());
+        assert!(matches!(
+            check_table(&[]),
+            Err(ScreenSizeError::TableLength(0))
+        ));
+        assert!(matches!(
+            check_table(&[0.5, 0.5]),
+            Err(ScreenSizeError::NotDecreasing { index: 1, .. })
+        ));
+        let long: Vec<f64> = (0..=MAX_TABLE_ENTRIES)
+            .map(|i| 1.0 / (i + 1) as f64)
+            .collect();
+        assert!(matches!(
+            check_table(&long),
+            Err(ScreenSizeError::TableLength(_))
+        ));
     }
 
     #[test]
