@@ -48,8 +48,8 @@ pub use crate::error::{Error, Result};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
-    BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId, Selection, Selector,
-    SelectorSettings, SimdLevel, ViewpointRule,
+    BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
+    SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,
 };
 
 /// A small valid profile for documentation examples.

@@ -173,7 +173,24 @@ pub struct SelectorSettings {
     /// camera's turns are the display's content moving, and an eye tracker
     /// reports the gaze itself.
     pub eyes_counter_rotate: bool,
+    /// With an eye tracker ([`crate::Tracker::Eye`]): the gaze speed, deg/s
+    /// in world axes between consecutive frames, above which the eye is
+    /// taken to be in a saccade. During a saccade the eye is not fixating,
+    /// so the floor of sampled motion ([`Display::with_refresh_hz`]) does
+    /// not hold: each object's detail follows `G(v)` at its retinal
+    /// velocity (the gaze's own sweep), which drops most of it (saccadic
+    /// suppression and motion smear). Detail returns on the first frame the
+    /// gaze is slower again, within the tens of milliseconds of suppression
+    /// that follow a saccade's landing. `f32::INFINITY` (the default), and
+    /// any value not > 0: never; [`SACCADE_THRESHOLD_DEG_PER_S`] is the
+    /// usual detection threshold.
+    pub saccade_threshold_deg_per_s: f32,
 }
+
+/// A gaze speed that only saccades reach, deg/s (smooth pursuit stays
+/// below about 100 deg/s; saccades of a few degrees or more peak at
+/// 200-700 deg/s): the usual velocity threshold of saccade detection.
+pub const SACCADE_THRESHOLD_DEG_PER_S: f32 = 180.0;
 
 /// The vector instructions the selection loop may use
 /// ([`SelectorSettings::simd`]); a level the CPU lacks falls back to the
@@ -204,6 +221,7 @@ impl Default for SelectorSettings {
             eccentricity_model: EccentricityModel::default(),
             velocity_model: VelocityModel::default(),
             eyes_counter_rotate: true,
+            saccade_threshold_deg_per_s: f32::INFINITY,
         }
     }
 }
@@ -424,6 +442,9 @@ pub struct Selector {
     /// The lowest `G(v)` on this display and observer, c/deg (0 for
     /// continuous motion).
     motion_floor_cpd: f32,
+    /// The gaze direction of the last frame in world axes, with an eye
+    /// tracker (for saccade detection).
+    gaze_world: Option<Vec3>,
     /// Objects with more than one LOD: object `i` is lane `i % BLOCK` of
     /// block `i / BLOCK`.
     blocks: Vec<Block>,
@@ -496,6 +517,7 @@ impl Selector {
             layout: RowLayout::Empty,
             rows: Vec::new(),
             motion_floor_cpd: motion_floor_cpd(&display, &settings),
+            gaze_world: None,
             blocks: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
@@ -896,7 +918,33 @@ impl Selector {
         }
     }
 
+    /// This frame's floor under `G(v)`, c/deg (0 during a saccade), and the
+    /// gaze direction in world axes to remember for the next frame.
+    fn frame_motion_floor(&self, frame: &FrameInput) -> (f32, Option<Vec3>) {
+        let threshold = self.settings.saccade_threshold_deg_per_s;
+        let eye_tracked = matches!(frame.gaze.tracker, Tracker::Eye { .. });
+        if !(eye_tracked && threshold > 0.0 && threshold.is_finite()) {
+            return (self.motion_floor_cpd, None);
+        }
+        let gaze_world =
+            (frame.camera.orientation.normalize() * frame.gaze.direction_camera).try_normalize();
+        let dt = frame.dt_s;
+        let in_saccade = match (self.gaze_world, gaze_world) {
+            (Some(before), Some(now)) if dt.is_finite() && dt > 0.0 => {
+                before.angle_between(now).to_degrees() > threshold * dt
+            }
+            _ => false,
+        };
+        let floor = if in_saccade {
+            0.0
+        } else {
+            self.motion_floor_cpd
+        };
+        (floor, gaze_world)
+    }
+
     fn run(&mut self, frame: &FrameInput, scale_override: f32, extra: Extra) -> Result<()> {
+        let (motion_floor_cpd, gaze_world) = self.frame_motion_floor(frame);
         let c = frame_consts(
             &self.display,
             &self.settings,
@@ -907,11 +955,12 @@ impl Selector {
                 ladders: &self.ladders,
                 object_profiles: &self.object_profiles,
                 layout: self.layout,
-                motion_floor_cpd: self.motion_floor_cpd,
+                motion_floor_cpd,
             },
             frame,
             scale_override,
         )?;
+        self.gaze_world = gaze_world;
         let comps = self.settings.components;
         let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
         let kernel = match (comps.velocity, comps.eccentricity, nearest) {
@@ -2109,7 +2158,7 @@ mod tests {
                     ladders: &sel.ladders,
                     object_profiles: &sel.object_profiles,
                     layout: sel.layout,
-                    motion_floor_cpd: sel.motion_floor_cpd,
+                    motion_floor_cpd: sel.frame_motion_floor(frame).0,
                 },
                 frame,
                 frame.scale,
@@ -2255,6 +2304,16 @@ mod tests {
         let display = Display::new([1920, 1080], [90.0, 58.7])
             .and_then(|d| d.with_refresh_hz(refresh_hz))
             .unwrap();
+        // Saccade detection on every fourth seed (the turning camera carries
+        // the eye-tracked gaze past the threshold).
+        let settings = SelectorSettings {
+            saccade_threshold_deg_per_s: if seed % 4 == 1 {
+                SACCADE_THRESHOLD_DEG_PER_S
+            } else {
+                settings.saccade_threshold_deg_per_s
+            },
+            ..settings
+        };
         let mut sel = Selector::new(display, settings);
         let mut profiles = vec![];
         for &(lods, views) in kinds {

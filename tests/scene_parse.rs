@@ -183,6 +183,24 @@ fn screen_size_table_and_foveation_are_read_from_the_run_table() {
 }
 
 #[test]
+fn the_saccade_threshold_is_read_for_an_eye_tracker() {
+    let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.gaze.saccade_threshold_deg_per_s, None);
+    let text =
+        format!("{MINIMAL_SCENE}\n[gaze]\ntracker = \"eye\"\nsaccade_threshold_deg_per_s = 180\n");
+    let scene = Scene::parse(&text, "eye.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.gaze.saccade_threshold_deg_per_s, Some(180.0));
+    for bad in ["0", "-5", "nan", "inf"] {
+        let text = text.replace("= 180", &format!("= {bad}"));
+        let err = Scene::parse(&text, "bad.toml").expect_err(bad).to_string();
+        assert!(
+            err.contains("gaze.saccade_threshold_deg_per_s"),
+            "{bad}: {err}"
+        );
+    }
+}
+
+#[test]
 fn observer_table_chooses_the_eye_models_and_display_its_refresh_rate() {
     let text = MINIMAL_SCENE;
     let plain = Scene::parse(text, "plain.toml").unwrap_or_else(|e| panic!("{e}"));

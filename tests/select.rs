@@ -302,6 +302,60 @@ fn with_head_tracking_a_pure_head_turn_leaves_world_fixed_detail_unchanged() {
 }
 
 #[test]
+fn during_a_saccade_detail_drops_and_returns_the_frame_the_gaze_lands() {
+    let settings = |threshold: f32| SelectorSettings {
+        cull: false,
+        saccade_threshold_deg_per_s: threshold,
+        ..SelectorSettings::default()
+    };
+    // The gaze fixates 10 deg left for 20 frames at 90 Hz, jumps 20 deg in
+    // three frames (600 deg/s), then fixates 10 deg right.
+    let gaze_x_deg = |f: usize| match f {
+        0..20 => -10.0,
+        20..23 => -10.0 + 20.0 * (f - 19) as f32 / 3.0,
+        _ => 10.0,
+    };
+    for tracker in [Tracker::eye_default(), Tracker::None, Tracker::Head] {
+        let (mut off, ids) = random_scene(settings(f32::INFINITY), 300, 5, DVec3::ZERO);
+        let (mut on, _) = random_scene(
+            settings(acuity::SACCADE_THRESHOLD_DEG_PER_S),
+            300,
+            5,
+            DVec3::ZERO,
+        );
+        let mut coarser_in_saccade = false;
+        for f in 0..30 {
+            let frame = FrameInput {
+                camera: Camera {
+                    position: DVec3::ZERO,
+                    orientation: Quat::IDENTITY,
+                },
+                gaze: Gaze::at_screen_angles(gaze_x_deg(f), 0.0, tracker),
+                dt_s: 1.0 / 90.0,
+                scale: 1.0,
+            };
+            off.select(&frame).unwrap();
+            on.select(&frame).unwrap();
+            let (a, b) = (lods(&off, &ids), lods(&on, &ids));
+            let in_saccade = (20..23).contains(&f) && matches!(tracker, Tracker::Eye { .. });
+            if in_saccade {
+                for (x, y) in a.iter().zip(&b) {
+                    assert!(y.lod() >= x.lod(), "frame {f}: {y:?} finer than {x:?}");
+                }
+                coarser_in_saccade |= a != b;
+            } else {
+                assert_eq!(a, b, "frame {f}, {tracker:?}");
+            }
+        }
+        assert_eq!(
+            coarser_in_saccade,
+            matches!(tracker, Tracker::Eye { .. }),
+            "{tracker:?}"
+        );
+    }
+}
+
+#[test]
 fn every_component_combination_works_and_switching_off_never_coarsens() {
     let mut reference = None;
     for bits in 0..8u8 {

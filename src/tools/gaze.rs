@@ -103,6 +103,11 @@ pub struct GazeSpec {
     /// (`eyes_counter_rotate`, default true; see
     /// [`crate::SelectorSettings::eyes_counter_rotate`]).
     pub eyes_counter_rotate: bool,
+    /// With the eye tracker: the gaze speed, deg/s, above which a saccade
+    /// lifts the floor of sampled motion (`saccade_threshold_deg_per_s`;
+    /// default none: never; see
+    /// [`crate::SelectorSettings::saccade_threshold_deg_per_s`]).
+    pub saccade_threshold_deg_per_s: Option<f64>,
 }
 
 impl Default for GazeSpec {
@@ -112,6 +117,7 @@ impl Default for GazeSpec {
             tracker: Tracker::None,
             tracker_error_deg: 0.0,
             eyes_counter_rotate: true,
+            saccade_threshold_deg_per_s: None,
         }
     }
 }

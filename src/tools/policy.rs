@@ -80,6 +80,11 @@ impl PolicyRunner {
             eccentricity_model: world.scene.eccentricity_model,
             velocity_model: world.scene.velocity_model,
             eyes_counter_rotate: world.scene.gaze.eyes_counter_rotate,
+            saccade_threshold_deg_per_s: world
+                .scene
+                .gaze
+                .saccade_threshold_deg_per_s
+                .map_or(f32::INFINITY, |v| v as f32),
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);

@@ -38,6 +38,7 @@
 //! copy = 0
 //! tracker = "eye"                    # "none" | "head" | "eye"
 //! eye_error_deg = 1.0                # only with tracker = "eye"
+//! saccade_threshold_deg_per_s = 180  # only with tracker = "eye"; default: no saccade rule
 //!
 //! [run]                              # optional; defaults shown in RunSpec
 //! target_hz = 60
@@ -719,6 +720,7 @@ struct RawGaze {
     tracker: Tracker,
     eye_error_deg: Option<f64>,
     eyes_counter_rotate: Option<bool>,
+    saccade_threshold_deg_per_s: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -1461,11 +1463,26 @@ impl<'t> Ctx<'t> {
                 "applies to tracker = \"head\" only (eye trackers report the gaze; without tracking, camera turns move the display's content)",
             ));
         }
+        if let Some(v) = g.saccade_threshold_deg_per_s {
+            if g.tracker != Tracker::Eye {
+                return Err(self.invalid(
+                    "gaze.saccade_threshold_deg_per_s",
+                    "needs tracker = \"eye\" (only an eye tracker sees saccades)",
+                ));
+            }
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(self.invalid(
+                    "gaze.saccade_threshold_deg_per_s",
+                    format!("{v} deg/s must be finite and > 0"),
+                ));
+            }
+        }
         Ok(GazeSpec {
             mode,
             tracker: g.tracker,
             tracker_error_deg,
             eyes_counter_rotate: g.eyes_counter_rotate.unwrap_or(true),
+            saccade_threshold_deg_per_s: g.saccade_threshold_deg_per_s,
         })
     }
 

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The eye model against FovVideoVDP across head-turn speed and fixation.
+#
+# `scenes/vr_sweep.toml` cut to a 0.75 s yaw sweep of amplitude 30 deg at a
+# constant 0, 30, 60, 120 or 200 deg/s (360x400 pixels over 90x100 deg,
+# 90 Hz, head tracking, 68 frames), once with the eyes counter-rotating
+# (fixation held on a world point, the default) and once with them fixed in
+# the head (fixation at the modelled gaze, the screen centre). Each variant
+# runs `acuity experiment error` at s = 1 for every acuity component set,
+# with screen size at two biases, scored by FovVideoVDP; the rows are
+# gathered into OUT/sweep.csv (rate, eyes, policy, knob, triangles, share of
+# full detail, JOD, LOD switches per second).
+#
+# Usage: scripts/eye_model_sweep.sh [OUT]   (default out/eye-model-sweep)
+# Needs a release build (`cargo build --release`) and ACUITY_PYTHON
+# pointing at a Python with pyfvvdp. About 1 min per variant on 2 cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+acuity=${ACUITY:-target/release/acuity}
+out=${1:-out/eye-model-sweep}
+mkdir -p "$out/scenes"
+echo "rate_deg_per_s,eyes,policy,knob,triangles,share,jod,lod_switches_per_s" > "$out/sweep.csv"
+for rate in 0 30 60 120 200; do
+  for eyes in counter_rotate fixed_in_head; do
+    name="vr_${rate}_${eyes}"
+    scene="$out/scenes/$name.toml"
+    counter=$([ "$eyes" = counter_rotate ] && echo true || echo false)
+    sweep="yaw_sweep = { amplitude_deg = 30.0, rate_deg_per_s = $rate.0 }"
+    sed -e "s|^yaw_sweep = .*|$sweep|" \
+        -e "s|^duration_s = 8.0|duration_s = 0.75|" \
+        -e "s|mesh = \"../models/|mesh = \"$PWD/models/|" \
+        -e "s|^tracker = \"head\".*|tracker = \"head\"\neyes_counter_rotate = $counter|" \
+        scenes/vr_sweep.toml > "$scene"
+    "$acuity" experiment error --scene "$scene" --resolution 360x400 --frames 68 \
+      --biases 8,32 --scales 1 \
+      --acuity-policies acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all \
+      --metric fvvdp --cache-dir scenes/.acuity-cache --out "$out/$name" --quiet
+    awk -F, -v rate="$rate" -v eyes="$eyes" '
+      NR == 1 { next }
+      $1 == "full" { full = $5 }
+      { rows[NR] = $0 }
+      END {
+        for (i = 2; i <= NR; i++) {
+          split(rows[i], f, ",")
+          printf "%s,%s,%s,%s,%.0f,%.3f,%.3f,%.1f\n", rate, eyes, f[1], f[2], f[5], f[5] / full, f[11], f[7]
+        }
+      }' "$out/$name/error.csv" >> "$out/sweep.csv"
+  done
+done
+column -s, -t "$out/sweep.csv"
