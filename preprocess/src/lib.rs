@@ -11,8 +11,9 @@
 //! size as a frequency), [`features`] (the unique features of a
 //! transition and their contrast), [`pipeline`] (the whole analysis).
 //!
-//! The crate returns plain data ([`ObjectAnalysis`]); the `acuity` crate
-//! turns it into its profile format. This crate does not depend on it.
+//! The crate returns plain data ([`ObjectAnalysis`]); the `acuity-cli`
+//! crate turns it into the runtime's profile format (crate `acuity`). This
+//! crate depends on neither.
 
 pub mod error;
 pub mod features;
