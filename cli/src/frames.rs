@@ -11,9 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
-use acuity_preprocess::render::{
-    Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
-};
+use acuity_render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
 use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 

@@ -39,8 +39,8 @@ use std::time::{Duration, Instant};
 
 use acuity_preprocess::lods::{self, ProceduralParams};
 use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
-use acuity_preprocess::render::{Renderer, RendererOptions};
 use acuity_preprocess::views;
+use acuity_render::{Renderer, RendererOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::profiles;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use acuity_preprocess::pipeline::{
     self, AnalysisSettings, ObjectAnalysis, ObjectSource, RunOptions,
 };
-use acuity_preprocess::render::Renderer;
+use acuity_render::Renderer;
 
 use acuity::profile::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 
