@@ -66,8 +66,11 @@ fn path_or_input(path: &Option<PathBuf>) -> String {
 }
 
 impl Error {
-    /// Attaches a file path to a profile error that came from a byte slice.
-    pub(crate) fn with_path(mut self, file: &std::path::Path) -> Self {
+    /// Attaches a file path to a profile error that came from a byte slice
+    /// (as [`crate::Profile::from_bytes`] returns it), so that the message
+    /// names the file the bytes were read from; other errors are returned
+    /// unchanged.
+    pub fn with_path(mut self, file: &std::path::Path) -> Self {
         match &mut self {
             Error::ProfileFormat { path, .. }
             | Error::ProfileInvalid { path, .. }
@@ -87,7 +90,10 @@ impl Error {
 
 /// A number as error messages show it: plainly, or in exponent form when
 /// that would take more than a dozen digits (`1e-300`, not 300 zeros).
-pub(crate) fn number(x: f64) -> String {
+/// Any `f64`, in whatever unit the message names; NaN and the infinities
+/// print as `NaN`, `inf` and `-inf`. Public so that the command-line
+/// tool's messages show numbers the same way as the runtime's.
+pub fn number(x: f64) -> String {
     if x == 0.0 || !x.is_finite() || (1e-4..1e12).contains(&x.abs()) {
         x.to_string()
     } else {

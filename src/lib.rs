@@ -5,9 +5,10 @@
 //! object's angular size, its retinal velocity and its eccentricity from
 //! the gaze (Reddy 1998, 2001), judged against a contrast sensitivity
 //! function. The offline pass (crate `acuity-preprocess`, driven by the
-//! `acuity` tool) measures the features each LOD transition removes (their
-//! spatial frequency and contrast, at a ladder of on-screen sizes) and
-//! stores them in a [`Profile`]; this crate reads profiles and selects.
+//! `acuity` tool of crate `acuity-cli`) measures the features each LOD
+//! transition removes (their spatial frequency and contrast, at a ladder
+//! of on-screen sizes) and stores them in a [`Profile`]; this crate reads
+//! profiles and selects.
 //!
 //! Units: angles in degrees, spatial frequency in cycles per degree
 //! (`_cpd`) or cycles per object diameter (`_cdiam`), velocity in deg/s,
@@ -20,9 +21,10 @@
 //! Features: `json` (JSON profiles), `parallel` (the selection loop on
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
 //! instructions the CPU has, detected at run time, through pulp; results
-//! are bit-identical without it), `tools` (the command-line tool and the
-//! offline pass). With none of them the runtime needs glam, serde and
-//! thiserror alone.
+//! are bit-identical without it; on by default). With none of them the
+//! runtime needs glam, serde and thiserror alone. The command-line tool
+//! and the offline pass are the crates `acuity-cli` and
+//! `acuity-preprocess`.
 
 #![forbid(unsafe_code)]
 
@@ -36,15 +38,13 @@ pub mod profile;
 pub mod rows;
 pub mod schedule;
 pub mod select;
-#[cfg(feature = "tools")]
-pub mod tools;
 mod viewpoints;
 
 pub use crate::acuity::{Components, EccentricityModel, VelocityModel};
 pub use crate::camera::{Camera, Gaze, Tracker};
 pub use crate::csf::{Observer, Photometry};
 pub use crate::display::Display;
-pub use crate::error::{Error, Result};
+pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{

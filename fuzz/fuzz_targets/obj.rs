@@ -1,4 +1,4 @@
-//! The OBJ/MTL parser: `acuity_preprocess::mesh::parse_obj`.
+//! The OBJ/MTL parser: `acuity_render::mesh::parse_obj`.
 //!
 //! The input is split at its first NUL byte: the bytes before it are the
 //! OBJ text, the bytes after it are served as the contents of every MTL file
@@ -19,7 +19,7 @@ fuzz_target!(|data: &[u8]| {
         Some(bytes) => Ok((PathBuf::from(name), bytes.to_vec())),
         None => Err(std::io::Error::from(std::io::ErrorKind::NotFound)),
     };
-    if let Ok(loaded) = acuity_preprocess::mesh::parse_obj(obj, Path::new("fuzz.obj"), &mut resolve)
+    if let Ok(loaded) = acuity_render::mesh::parse_obj(obj, Path::new("fuzz.obj"), &mut resolve)
     {
         // What a successful parse returns must be usable.
         let mesh = &loaded.mesh;

@@ -1,5 +1,5 @@
 //! The JSON profile decoder: `acuity::profile::json::decode` (feature
-//! `json`, on by default through `tools`).
+//! `json`).
 #![no_main]
 
 use acuity::profile::json;

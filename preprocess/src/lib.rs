@@ -4,29 +4,28 @@
 //! diameter and their contrast, at a ladder of on-screen sizes
 //! (REFERENCE §1 and §5).
 //!
-//! Modules, one concept each: [`mesh`] (OBJ/MTL loading), [`lods`] (LOD
-//! chains, simplification, a procedural test object), [`views`]
-//! (viewpoints and camera), [`render`] (the shared headless renderer),
-//! [`segment`] (CIELUV and region growing), [`frequency`] (a feature's
-//! size as a frequency), [`features`] (the unique features of a
-//! transition and their contrast), [`pipeline`] (the whole analysis).
+//! Modules, one concept each: [`mesh`] (OBJ/MTL loading) and [`render`]
+//! (the shared headless renderer), both re-exported from crate
+//! `acuity-render`; [`lods`] (LOD chains, simplification, a procedural
+//! test object), [`views`] (viewpoints and camera), [`segment`] (CIELUV
+//! and region growing), [`frequency`] (a feature's size as a frequency),
+//! [`features`] (the unique features of a transition and their contrast),
+//! [`pipeline`] (the whole analysis).
 //!
-//! The crate returns plain data ([`ObjectAnalysis`]); the `acuity` crate
-//! turns it into its profile format. This crate does not depend on it.
+//! The crate returns plain data ([`ObjectAnalysis`]); the `acuity-cli`
+//! crate turns it into the runtime's profile format (crate `acuity`). This
+//! crate depends on neither (only on the renderer, `acuity-render`).
 
-pub mod error;
 pub mod features;
 pub mod frequency;
 pub mod lods;
-pub mod mesh;
 pub mod pipeline;
-pub mod render;
 pub mod segment;
 pub mod views;
 
-pub use error::Error;
+pub use acuity_render as render;
+pub use acuity_render::{Error, LoadedMesh, Mesh, error, mesh};
 pub use frequency::FrequencyStatistic;
-pub use mesh::{LoadedMesh, Mesh};
 pub use pipeline::{
     AnalysisSettings, FeatureRecord, InputHash, ObjectAnalysis, ObjectSource, Progress, RunOptions,
     TransitionAnalysis, analyse, analyse_many, input_hashes,

@@ -170,7 +170,8 @@ fn one_bad_object_does_not_stop_the_others() {
         viewpoint_level: 0,
         ..Default::default()
     };
-    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/bad_obj");
+    let fixtures =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../render/tests/fixtures/bad_obj");
     let objects = [
         ObjectSource::Files {
             name: "nan".into(),

@@ -1,5 +1,12 @@
-//! One shared headless renderer (wgpu), used by the offline pass and by the
-//! real-time scenes.
+//! `acuity-render`: one shared headless renderer (wgpu), used by the
+//! offline pass (crate `acuity-preprocess`) and by the real-time scenes
+//! (crate `acuity-cli`), and what it draws: [`mesh`] (indexed triangle
+//! meshes and the OBJ/MTL loader). [`Error`] is the one error type of the
+//! renderer, the loader and the offline pass (which re-exports it).
+//!
+//! A crate of its own because the scene player uses the renderer and the
+//! loader as much as the offline pass does: they need neither the offline
+//! pass's analysis nor the runtime.
 //!
 //! # Decisions
 //! - **One device** per [`Renderer`]; meshes are uploaded once
@@ -16,8 +23,9 @@
 //!   back faces), no culling, so inconsistent winding in files is harmless.
 //! - **Output** is `Rgba8UnormSrgb`: the shader works in linear RGB and the
 //!   target encodes to sRGB, so the bytes read back are sRGB8 — exactly what
-//!   [`crate::segment`] converts to CIELUV. Rows are top first, tightly
-//!   packed (the 256-byte row padding of the copy is stripped).
+//!   the offline pass's `segment` module converts to CIELUV. Rows are top
+//!   first, tightly packed (the 256-byte row padding of the copy is
+//!   stripped).
 //! - **4x MSAA** by default ([`DEFAULT_MSAA_SAMPLES`]), as real applications
 //!   draw: edges are blended over a pixel, so a silhouette that moves by a
 //!   fraction of a pixel between LODs changes its edge pixels by that
@@ -43,11 +51,15 @@
 //!   (≈ 25 %) but quantises linear light to 8 bits, which changes the bytes,
 //!   so the target stays `Rgba8UnormSrgb`.
 
+pub mod error;
+pub mod mesh;
+
 use std::sync::Mutex;
 
 use glam::{Mat3, Mat4, Vec3};
 
-use crate::{Error, Mesh};
+pub use crate::error::Error;
+pub use crate::mesh::{LoadedMesh, Mesh};
 
 /// MSAA samples of [`RendererOptions::default`] (and of the offline pass's
 /// default settings).

@@ -1,8 +1,10 @@
-//! The crate's one error type, grouped by whose fault it is.
+//! The one error type of the renderer, the OBJ/MTL loader and the offline
+//! pass (`acuity-preprocess` re-exports it), grouped by whose fault it is.
 
 use std::path::PathBuf;
 
-/// Everything that can go wrong in the offline pass.
+/// Everything that can go wrong in the offline pass, its renderer or its
+/// loader.
 ///
 /// Variants name the file and line (input files), the object and LOD
 /// (LOD chains), the field (settings) or the graphics layer (rendering).

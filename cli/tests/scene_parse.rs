@@ -7,11 +7,9 @@
 //! with `# <- error` (or `# expect-line: N` where the error has no line of
 //! its own, e.g. a missing table).
 
-#![cfg(feature = "tools")]
-
 use std::path::{Path, PathBuf};
 
-use acuity::tools::scene::{MeshSource, Policy, Scene, SceneError};
+use acuity_cli::scene::{MeshSource, Policy, Scene, SceneError};
 use proptest::prelude::*;
 
 /// The smallest valid scene: one procedural object on a straight path.
@@ -29,16 +27,21 @@ duration_s = 2.0
 forward_speed_m_per_s = 1.0
 "#;
 
+/// The repository root, which holds the shipped `scenes/`.
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("the CLI crate sits in the repository")
+        .to_path_buf()
 }
 
 fn fixtures() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("tests/fixtures/scenes"))
-        .expect("fixture folder")
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
+    let mut files: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/scenes"))
+            .expect("fixture folder")
+            .map(|e| e.expect("dir entry").path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
     files.sort();
     files
 }
@@ -121,7 +124,7 @@ fn vr_sweep_reaches_200_deg_per_s() {
 
 #[test]
 fn profiles_table_is_read_and_flags_override_it() {
-    use acuity::tools::scene::ProfileSpec;
+    use acuity_cli::scene::ProfileSpec;
     use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
     let text = &format!(
         "{MINIMAL_SCENE}{}",
@@ -166,7 +169,7 @@ fn screen_size_table_and_foveation_are_read_from_the_run_table() {
     let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         plain.run.screen_size_thresholds,
-        acuity::tools::screen_size::DEFAULT_THRESHOLDS_4.to_vec()
+        acuity_cli::screen_size::DEFAULT_THRESHOLDS_4.to_vec()
     );
     assert!(!plain.run.screen_size_foveated);
     let text = format!(

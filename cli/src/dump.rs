@@ -18,7 +18,7 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use glam::DVec3;
 
-use super::scene::{DisplaySpec, Policy};
+use crate::scene::{DisplaySpec, Policy};
 
 /// The name of full detail's sequence, the reference every other is
 /// scored against.
@@ -51,7 +51,7 @@ pub fn sequence_name(policy: Policy, knob: f64) -> String {
 }
 
 /// The gaze point in pixels of an image of `resolution_px` covering
-/// `fov_deg` (the player's projection, [`super::frames::World::view_proj`]):
+/// `fov_deg` (the player's projection, [`crate::frames::World::view_proj`]):
 /// origin at the image's top-left corner, x right, y down, the display
 /// centre at `(w/2, h/2)`. `gaze_camera` is a camera-space direction (-Z
 /// forward); points off screen give coordinates outside the image, and a

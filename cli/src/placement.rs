@@ -8,7 +8,7 @@
 
 use glam::{DMat4, DQuat, DVec3};
 
-use super::path::orientation_from_deg;
+use crate::path::orientation_from_deg;
 
 /// One concrete instance of an object in world space.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,7 +42,7 @@ impl Placement {
 pub struct Transform {
     /// Position, metres.
     pub position_m: DVec3,
-    /// Yaw, pitch, roll in degrees, composed as in [`super::path`].
+    /// Yaw, pitch, roll in degrees, composed as in [`crate::path`].
     pub rotation_deg: [f64; 3],
     /// Uniform scale (> 0).
     pub scale: f64,

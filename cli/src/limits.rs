@@ -25,10 +25,10 @@
 //! read, and checked again with the loaded meshes before anything is
 //! analysed or drawn.
 
-use crate::error::number;
-use crate::schedule;
+use acuity::format_number as number;
+use acuity::schedule;
 
-pub use crate::schedule::{MAX_TARGET_HZ, MIN_TARGET_HZ};
+pub use acuity::schedule::{MAX_TARGET_HZ, MIN_TARGET_HZ};
 
 /// Most frames of a run (a frame's records are kept for every policy).
 pub const MAX_FRAMES: u64 = 10_000_000;
@@ -58,7 +58,7 @@ pub const MIN_SCALE: f32 = f32::MIN_POSITIVE;
 pub fn check_target_hz(hz: f64) -> Result<(), String> {
     match schedule::check_target_hz("target_hz", hz) {
         Ok(()) => Ok(()),
-        Err(crate::Error::InvalidParameter { reason, .. }) => Err(reason),
+        Err(acuity::Error::InvalidParameter { reason, .. }) => Err(reason),
         Err(e) => Err(e.to_string()),
     }
 }

@@ -2,7 +2,7 @@
 //! measure every frame, compare sampled frames with full detail by FLIP,
 //! and write a table, a per-frame CSV, plots and side-by-side images;
 //! optionally dump every frame and score the dump with FovVideoVDP
-//! ([`super::dump`]).
+//! ([`crate::dump`]).
 //!
 //! Frame time is wall-clock time from the start of LOD selection to the
 //! moment the rendered image is back in memory (the renderer waits for the
@@ -19,14 +19,14 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use image::RgbImage;
 
-use super::dump::{FrameDump, Metric, REFERENCE_SEQUENCE, sequence_name};
-use super::flip::{flip_rgba, quantile};
-use super::frames::{FrameView, ProfileArgs, World, parse_resolution};
-use super::gaze::Gaze as GazePath;
-use super::plot::{LinePlot, Series, save_line_plot};
-use super::policy::{PolicyRunner, fit_cost_model};
-use super::scene::{MAX_FRAMES, Policy, Scene};
-use crate::CostModel;
+use crate::dump::{FrameDump, Metric, REFERENCE_SEQUENCE, sequence_name};
+use crate::flip::{flip_rgba, quantile};
+use crate::frames::{FrameView, ProfileArgs, World, parse_resolution};
+use crate::gaze::Gaze as GazePath;
+use crate::plot::{LinePlot, Series, save_line_plot};
+use crate::policy::{PolicyRunner, fit_cost_model};
+use crate::scene::{MAX_FRAMES, Policy, Scene};
+use acuity::CostModel;
 
 /// Arguments of `acuity run`.
 #[derive(clap::Args, Debug, Clone)]
@@ -38,7 +38,7 @@ pub struct RunArgs {
     pub out: Option<PathBuf>,
     /// Number of frames, spread over the same path, 1 to 10,000,000
     /// (default: the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Policies to run, comma-separated (default: the scene's).
     #[arg(long, value_delimiter = ',')]
@@ -312,7 +312,7 @@ impl<'w> Player<'w> {
         calibration_bias: f64,
     ) -> anyhow::Result<Vec<PolicyRun>> {
         let world = self.world;
-        let needed = super::limits::play_memory_bytes(
+        let needed = crate::limits::play_memory_bytes(
             u64::from(self.settings.frames),
             configs.len() as u64,
             std::mem::size_of::<FrameRecord>() as u64,
@@ -320,7 +320,7 @@ impl<'w> Player<'w> {
             self.settings.flip_every_n_frames,
             self.settings.keep_images,
         );
-        super::limits::check_memory(
+        crate::limits::check_memory(
             needed,
             &format!(
                 "{} frames x {} policies at {}x{} pixels",
@@ -830,7 +830,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     }
     let fvvdp = args.metric.contains(&Metric::Fvvdp);
     if fvvdp {
-        super::dump::check_fvvdp()?;
+        crate::dump::check_fvvdp()?;
     }
     let world = load_world(args)?;
     let scene = &world.scene;
@@ -873,7 +873,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
         attach_jod(
             &mut summaries,
-            &super::dump::score_fvvdp(dir, args.profiles.quiet)?,
+            &crate::dump::score_fvvdp(dir, args.profiles.quiet)?,
         )?;
     }
     print!("{}", format_table(&summaries));
@@ -914,7 +914,7 @@ pub fn command(args: &RunArgs) -> ExitCode {
     match run(args) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", super::error_line(&e));
+            eprintln!("error: {}", crate::error_line(&e));
             ExitCode::from(2)
         }
     }

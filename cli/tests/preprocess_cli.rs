@@ -1,7 +1,6 @@
 //! `acuity preprocess` end to end: the binary on small inputs in a temp
 //! folder (128 px, 6 viewpoints, so the suite stays fast on llvmpipe), and
 //! once on the real bunny at 256 px, 18 viewpoints.
-#![cfg(feature = "tools")]
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -406,7 +405,7 @@ fn bad_arguments_exit_with_2() {
 #[test]
 fn bunny_critical_frequency_falls_from_finest_to_coarsest_transition() {
     let dir = temp_dir("bunny");
-    let bunny = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/bunny.obj");
+    let bunny = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/bunny.obj");
     let out = dir.join("out");
     let o = acuity(&[
         s(&bunny),

@@ -3,7 +3,7 @@
 //!
 //! A scene is a TOML file with six tables. Units are in the key names
 //! (`_deg`, `_cm`, `_s`, `_m_per_s`, `_hz`); positions are metres in the
-//! world frame of [`super::path`] (right-handed, +Y up, the camera looks
+//! world frame of [`crate::path`] (right-handed, +Y up, the camera looks
 //! along -Z). Paths to meshes are relative to the scene file.
 //!
 //! ```toml
@@ -69,7 +69,7 @@
 //! or shorter than their field's. Every error is a [`SceneError`] naming
 //! the file, line, column and field path (`objects[2].copies.count`).
 //!
-//! Limits ([`super::limits`] has them all): at most 10,000,000 frames
+//! Limits ([`crate::limits`] has them all): at most 10,000,000 frames
 //! (`run.frames`, or as `dt_s` or `target_hz` imply), 16,384 pixels a
 //! display side, 1,000,000 copies of an object, 10,000,000 triangles a
 //! procedural LOD and 1,000,000,000 triangles at full detail over all
@@ -92,13 +92,13 @@ use serde::Deserialize;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use super::gaze::{Gaze, GazeMode, GazePoint, GazeSpec, Tracker};
-use super::path::{CameraMotion, CameraPath, Keyframe, SweepShape, YawSweep};
-use super::placement::{Copies, Placement, PlacementSpec, Transform};
+use crate::gaze::{Gaze, GazeMode, GazePoint, GazeSpec, Tracker};
+use crate::path::{CameraMotion, CameraPath, Keyframe, SweepShape, YawSweep};
+use crate::placement::{Copies, Placement, PlacementSpec, Transform};
 
-use super::arrays::Exact;
-use super::limits;
-pub use super::limits::{MAX_COPIES, MAX_FRAMES, MAX_RESOLUTION_PX};
+use crate::arrays::Exact;
+use crate::limits;
+pub use crate::limits::{MAX_COPIES, MAX_FRAMES, MAX_RESOLUTION_PX};
 
 /// Everything that can be wrong with a scene file. Each variant names the
 /// file; all but `Io` also name the line and column (1-based) and the field.
@@ -209,11 +209,11 @@ pub struct Scene {
     /// How the scene's profiles are made.
     pub profiles: ProfileSpec,
     /// The viewer's contrast sensitivity calibration (`[observer]`).
-    pub observer: crate::Observer,
+    pub observer: acuity::Observer,
     /// How acuity falls with eccentricity (`[observer] eccentricity_model`).
-    pub eccentricity_model: crate::EccentricityModel,
+    pub eccentricity_model: acuity::EccentricityModel,
     /// How acuity falls with retinal velocity (`[observer] velocity_model`).
-    pub velocity_model: crate::VelocityModel,
+    pub velocity_model: acuity::VelocityModel,
 }
 
 /// How profiles are made (`[profiles]`, or the matching command-line flags);
@@ -293,10 +293,10 @@ pub struct DisplaySpec {
 }
 
 impl DisplaySpec {
-    /// The display's photometry ([`crate::Photometry::from_display`] of
+    /// The display's photometry ([`acuity::Photometry::from_display`] of
     /// its peak luminance, contrast ratio and ambient light).
-    pub fn photometry(&self) -> crate::Result<crate::Photometry> {
-        crate::Photometry::from_display(
+    pub fn photometry(&self) -> acuity::Result<acuity::Photometry> {
+        acuity::Photometry::from_display(
             self.peak_luminance_cd_m2 as f32,
             self.contrast_ratio as f32,
             self.ambient_lux as f32,
@@ -408,7 +408,7 @@ impl MeshSource {
 pub enum Policy {
     /// LOD 0 everywhere.
     Full,
-    /// Screen-relative height thresholds ([`super::screen_size`]).
+    /// Screen-relative height thresholds ([`crate::screen_size`]).
     ScreenSize,
     /// Acuity, size only.
     AcuitySize,
@@ -493,8 +493,8 @@ pub struct RunSpec {
     pub screen_size_bias: f64,
     /// The screen-size policy's thresholds, relative screen heights
     /// (strictly decreasing, > 0; an object with more LODs continues the
-    /// table by [`super::screen_size::DEFAULT_THRESHOLD_RATIO`]); default
-    /// [`super::screen_size::DEFAULT_THRESHOLDS_4`].
+    /// table by [`crate::screen_size::DEFAULT_THRESHOLD_RATIO`]); default
+    /// [`crate::screen_size::DEFAULT_THRESHOLDS_4`].
     pub screen_size_thresholds: Vec<f64>,
     /// Whether the screen-size policy weights each object's relative height
     /// by the observer's eccentricity factor `M(E)` at the object's angle
@@ -601,8 +601,8 @@ struct RawDisplay {
 struct RawObserver {
     sensitivity: Option<f32>,
     masking: Option<f32>,
-    eccentricity_model: Option<crate::EccentricityModel>,
-    velocity_model: Option<crate::VelocityModel>,
+    eccentricity_model: Option<acuity::EccentricityModel>,
+    velocity_model: Option<acuity::VelocityModel>,
 }
 
 #[derive(Deserialize)]
@@ -892,14 +892,14 @@ impl<'t> Ctx<'t> {
         })
     }
 
-    fn observer(&self, o: RawObserver) -> Res<crate::Observer> {
-        let d = crate::Observer::default();
-        let observer = crate::Observer {
+    fn observer(&self, o: RawObserver) -> Res<acuity::Observer> {
+        let d = acuity::Observer::default();
+        let observer = acuity::Observer {
             sensitivity: o.sensitivity.unwrap_or(d.sensitivity),
             masking: o.masking.unwrap_or(d.masking),
         };
         match observer.validate() {
-            Err(crate::Error::InvalidParameter { name, reason }) => {
+            Err(acuity::Error::InvalidParameter { name, reason }) => {
                 Err(self.invalid(format!("observer.{name}"), reason))
             }
             Err(e) => Err(self.invalid("observer", e.to_string())),
@@ -910,7 +910,7 @@ impl<'t> Ctx<'t> {
     fn profiles(&self, p: RawProfiles) -> Res<ProfileSpec> {
         let statistic = p
             .statistic
-            .map(|s| super::run::parse_statistic(&s))
+            .map(|s| crate::run::parse_statistic(&s))
             .transpose()
             .map_err(|reason| self.invalid("profiles.statistic", reason))?;
         let spec = ProfileSpec {
@@ -1020,7 +1020,7 @@ impl<'t> Ctx<'t> {
                     ));
                 }
                 (Some(true), None) => None,
-                (_, hz) => Some(hz.unwrap_or(f64::from(crate::display::DEFAULT_REFRESH_HZ))),
+                (_, hz) => Some(hz.unwrap_or(f64::from(acuity::display::DEFAULT_REFRESH_HZ))),
             },
         };
         if let Some(hz) = spec.refresh_hz
@@ -1032,7 +1032,7 @@ impl<'t> Ctx<'t> {
             ));
         }
         match spec.photometry() {
-            Err(crate::Error::InvalidParameter { name, reason }) => {
+            Err(acuity::Error::InvalidParameter { name, reason }) => {
                 let key = match name {
                     "peak_cd_m2" => "peak_luminance_cd_m2",
                     other => other,
@@ -1561,8 +1561,8 @@ impl<'t> Ctx<'t> {
         }
         let screen_size_thresholds = r
             .screen_size_thresholds
-            .unwrap_or_else(|| super::screen_size::DEFAULT_THRESHOLDS_4.to_vec());
-        super::screen_size::check_table(&screen_size_thresholds)
+            .unwrap_or_else(|| crate::screen_size::DEFAULT_THRESHOLDS_4.to_vec());
+        crate::screen_size::check_table(&screen_size_thresholds)
             .map_err(|e| self.invalid("run.screen_size_thresholds", e.to_string()))?;
         let scale_factor = r.scale_factor.unwrap_or(1.0);
         if !(scale_factor > 0.0 && scale_factor <= 1.0) {

@@ -4,8 +4,8 @@
 
 use std::fmt;
 
-use crate::Display;
-use crate::acuity::{
+use acuity::Display;
+use acuity::acuity::{
     MAX_ACUITY_CPD, acuity_cpd, eccentricity_factor, eccentricity_for_factor_deg,
     velocity_for_acuity_deg_per_s,
 };

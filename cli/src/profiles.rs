@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use acuity_preprocess::pipeline::{
     self, AnalysisSettings, ObjectAnalysis, ObjectSource, RunOptions,
 };
-use acuity_preprocess::render::Renderer;
+use acuity_render::Renderer;
 
-use crate::profile::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
+use acuity::profile::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 
 /// Where a profile came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -153,12 +153,12 @@ pub fn cached_profile(
 
 /// Why the cached profile at `path`, which failed to load with `e`, is
 /// unusable; `None` when there is no file to replace.
-fn unusable(e: &crate::Error, path: &Path) -> Option<String> {
+fn unusable(e: &acuity::Error, path: &Path) -> Option<String> {
     use std::cmp::Ordering;
     match e {
-        crate::Error::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => None,
-        crate::Error::Io { source, .. } => Some(format!("cannot be read: {source}")),
-        crate::Error::ProfileVersion {
+        acuity::Error::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => None,
+        acuity::Error::Io { source, .. } => Some(format!("cannot be read: {source}")),
+        acuity::Error::ProfileVersion {
             found, supported, ..
         } => {
             let age = match found.cmp(supported) {
@@ -281,14 +281,14 @@ mod tests {
 
     #[test]
     fn a_missing_cache_file_is_quiet_and_a_bad_one_says_why() {
-        let io = |kind| crate::Error::Io {
+        let io = |kind| acuity::Error::Io {
             path: "x.acp".into(),
             source: std::io::Error::from(kind),
         };
         let at = Path::new("x.acp");
         assert_eq!(unusable(&io(std::io::ErrorKind::NotFound), at), None);
         assert!(unusable(&io(std::io::ErrorKind::InvalidInput), at).is_some());
-        let version = |found| crate::Error::ProfileVersion {
+        let version = |found| acuity::Error::ProfileVersion {
             path: None,
             found,
             supported: 2,

@@ -1,6 +1,5 @@
 //! `acuity run` end to end on a tiny scene (160x120, 12 objects, a few
 //! frames, coarse profiles), and its error on a broken object.
-#![cfg(feature = "tools")]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -17,15 +17,15 @@ use std::process::ExitCode;
 
 use anyhow::{Context, anyhow, bail};
 
-use super::dump::{Metric, check_fvvdp, score_fvvdp};
-use super::frames::{ProfileArgs, World, parse_resolution};
-use super::limits;
-use super::placement::PlacementSpec;
-use super::plot::{LinePlot, Series, save_line_plot};
-use super::run::{
+use crate::dump::{Metric, check_fvvdp, score_fvvdp};
+use crate::frames::{ProfileArgs, World, parse_resolution};
+use crate::limits;
+use crate::placement::PlacementSpec;
+use crate::plot::{LinePlot, Series, save_line_plot};
+use crate::run::{
     PlaySettings, Player, Summary, attach_jod, format_table, summarize, write_frames_csv,
 };
-use super::scene::{Policy, Scene};
+use crate::scene::{Policy, Scene};
 
 /// The paper's object counts.
 pub const PAPER_COUNTS: [u32; 7] = [10, 20, 50, 100, 200, 500, 1000];
@@ -73,7 +73,7 @@ pub struct ErrorArgs {
     #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
     pub acuity_policies: Vec<String>,
     /// Frames per configuration, spread over the scene's path.
-    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
     pub frames: u32,
     /// FLIP on every n-th frame (>= 1).
     #[arg(long, default_value_t = 3)]
@@ -108,14 +108,14 @@ pub struct FramerateArgs {
     /// Target frame rate, Hz, 1 to 10,000 (default: the scene's). A
     /// software rasteriser cannot reach 90 Hz on this scene; pick a rate it
     /// can nearly hold.
-    #[arg(long, value_parser = super::limits::parse_target_hz)]
+    #[arg(long, value_parser = crate::limits::parse_target_hz)]
     pub target_hz: Option<f64>,
     /// Frames, spread over the scene's path (default: the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Extra load during the spikes, as a fraction of the frame budget,
     /// 0 to 10.
-    #[arg(long, default_value_t = 0.5, value_parser = super::limits::parse_spike_load)]
+    #[arg(long, default_value_t = 0.5, value_parser = crate::limits::parse_spike_load)]
     pub spike_load: f64,
     /// Options every experiment shares.
     #[command(flatten)]
@@ -178,7 +178,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
-        let p = super::run::policy_by_name(name)?;
+        let p = crate::run::policy_by_name(name)?;
         if !p.is_fixed_scale_acuity() {
             bail!("`{name}` is not an acuity policy with a fixed scale factor");
         }
@@ -195,7 +195,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     }
     let mut world = args.common.load(&args.scene)?;
     if let Some(table) = &args.screen_size_thresholds {
-        super::screen_size::check_table(table)
+        crate::screen_size::check_table(table)
             .map_err(|e| anyhow::anyhow!("--screen-size-thresholds: {e}"))?;
         world.scene.run.screen_size_thresholds = table.clone();
     }
@@ -464,7 +464,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     );
     print!("{}", format_table(&sums));
     write_frames_csv(&runs, &out.join("framerate.csv"))?;
-    let over_time = |f: &dyn Fn(&super::run::FrameRecord) -> f64| -> Vec<Series> {
+    let over_time = |f: &dyn Fn(&crate::run::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
                 name: r.policy.name().into(),
@@ -523,7 +523,7 @@ pub struct SpeedupArgs {
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
     /// Frames per flight, spread over the scene's path.
-    #[arg(long, default_value_t = 25, value_parser = clap::value_parser!(u32).range(1..=super::scene::MAX_FRAMES as i64))]
+    #[arg(long, default_value_t = 25, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
     pub frames: u32,
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept);
     /// the paper's 1280x1024 is slow on a software rasteriser.
@@ -601,11 +601,11 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
     if let Some(&c) = args
         .counts
         .iter()
-        .find(|&&c| c == 0 || c > super::scene::MAX_COPIES)
+        .find(|&&c| c == 0 || c > crate::scene::MAX_COPIES)
     {
         bail!(
             "object count {c} is outside 1..={}",
-            super::scene::MAX_COPIES
+            crate::scene::MAX_COPIES
         );
     }
     let mut scene = Scene::load(&args.scene)?;
@@ -794,7 +794,7 @@ pub fn command(args: &ExperimentArgs) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", super::error_line(&e));
+            eprintln!("error: {}", crate::error_line(&e));
             ExitCode::from(2)
         }
     }

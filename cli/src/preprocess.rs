@@ -39,14 +39,14 @@ use std::time::{Duration, Instant};
 
 use acuity_preprocess::lods::{self, ProceduralParams};
 use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
-use acuity_preprocess::render::{Renderer, RendererOptions};
 use acuity_preprocess::views;
+use acuity_render::{Renderer, RendererOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::profiles;
-use super::scene::{MeshSource, ProceduralKind, ProfileSpec, Scene};
-use crate::rows::{FieldCsfs, transition_critical_cdiam};
-use crate::{Observer, Photometry, Profile, csf::Csf};
+use crate::profiles;
+use crate::scene::{MeshSource, ProceduralKind, ProfileSpec, Scene};
+use acuity::rows::{FieldCsfs, transition_critical_cdiam};
+use acuity::{Observer, Photometry, Profile, csf::Csf};
 
 /// Seed of the procedural generator for scene objects of kind `rock` (the
 /// scene format has no seed for the shape; this one is fixed so profiles
@@ -91,7 +91,7 @@ pub struct PreprocessArgs {
     /// inscribed disc: a thin sliver is as fine as its width, however
     /// long), `longest`, `shortest` or `mean` [default: a scene's
     /// `[profiles]`, else thickness].
-    #[arg(long, value_parser = super::run::parse_statistic)]
+    #[arg(long, value_parser = crate::run::parse_statistic)]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
@@ -139,7 +139,7 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", super::error_line(&e));
+            eprintln!("error: {}", crate::error_line(&e));
             match e.downcast_ref::<PreprocessError>() {
                 Some(PreprocessError::Usage(_)) => ExitCode::from(2),
                 _ => ExitCode::from(1),
@@ -356,7 +356,7 @@ fn process(
                     rows.push(None);
                     to_analyse.push(i);
                 }
-                Err(e) => rows.push(row(Outcome::Failed(super::error_line(&e)))),
+                Err(e) => rows.push(row(Outcome::Failed(crate::error_line(&e)))),
             },
         }
     }
@@ -423,7 +423,7 @@ fn process(
                     });
                     Outcome::Analysed(p)
                 }
-                Err(e) => Outcome::Failed(super::error_line(&e)),
+                Err(e) => Outcome::Failed(crate::error_line(&e)),
             },
         };
         let seconds = t0.elapsed().as_secs_f64();
@@ -454,7 +454,7 @@ fn process(
             let Ok(src) = &j.source else { continue };
             let path = profiles::cache_path(out_dir, src).with_extension("json");
             if let Err(e) = write_json_if_changed(p, &path) {
-                let line = super::error_line(&e);
+                let line = crate::error_line(&e);
                 eprintln!("error: object `{}`: {line}", j.name);
                 row.outcome = Outcome::Failed(line);
             }
@@ -466,7 +466,7 @@ fn process(
 /// Writes `profile` as JSON to `path` unless the file already holds exactly
 /// those bytes (so a cached run leaves it untouched).
 fn write_json_if_changed(profile: &Profile, path: &Path) -> anyhow::Result<()> {
-    let bytes = crate::profile::json::encode(profile)?;
+    let bytes = acuity::profile::json::encode(profile)?;
     if std::fs::read(path).is_ok_and(|old| old == bytes) {
         return Ok(());
     }

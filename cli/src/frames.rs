@@ -11,18 +11,16 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
-use acuity_preprocess::render::{
-    Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
-};
+use acuity_render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
 use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 
-use super::limits::check_scene_triangles;
-use super::placement::Placement;
-use super::preprocess::object_source;
-use super::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile};
-use super::scene::{ProfileSpec, Scene};
-use crate::{Camera, Display, Gaze, Profile, Tracker};
+use crate::limits::check_scene_triangles;
+use crate::placement::Placement;
+use crate::preprocess::object_source;
+use crate::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile};
+use crate::scene::{ProfileSpec, Scene};
+use acuity::{Camera, Display, Gaze, Profile, Tracker};
 
 /// Near clipping plane of the player's projection, metres.
 pub const NEAR_PLANE_M: f32 = 0.05;
@@ -102,11 +100,11 @@ pub struct ProfileArgs {
     /// Feature-size statistic of profiles that must be made: `thickness`
     /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or
     /// `shortest` [default: the scene's `[profiles]`, else thickness].
-    #[arg(long, value_parser = super::run::parse_statistic)]
+    #[arg(long, value_parser = crate::run::parse_statistic)]
     pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that
     /// must be made [default: the scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = super::preprocess::parse_threshold)]
+    #[arg(long, value_parser = crate::preprocess::parse_threshold)]
     pub profile_threshold: Option<f32>,
     /// Print no progress lines on stderr.
     #[arg(long)]
@@ -143,7 +141,7 @@ pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
     let p = |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if (1..=super::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
+        Ok(v) if (1..=crate::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
         _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
     };
     Ok([p(a)?, p(b)?])
@@ -340,7 +338,7 @@ impl World {
 
     /// The instance the gaze tracks, if the scene's gaze tracks one.
     pub fn tracked_instance(&self) -> Option<usize> {
-        use super::gaze::GazeMode;
+        use crate::gaze::GazeMode;
         let GazeMode::Track { object, copy } = &self.scene.gaze.mode else {
             return None;
         };
@@ -352,7 +350,7 @@ impl World {
 
     /// The runtime's tracker for the scene's gaze: its margin, deg.
     pub fn tracker(&self) -> Tracker {
-        use super::gaze::Tracker as T;
+        use crate::gaze::Tracker as T;
         let g = &self.scene.gaze;
         match g.tracker {
             T::None => Tracker::None,
@@ -364,7 +362,7 @@ impl World {
     }
 
     /// Camera and gaze at simulated time `t_s` (frame `index`).
-    pub fn view_at(&self, index: u32, t_s: f64, gaze: &super::gaze::Gaze) -> FrameView {
+    pub fn view_at(&self, index: u32, t_s: f64, gaze: &crate::gaze::Gaze) -> FrameView {
         let (eye_m, orientation) = self.scene.camera.sample(t_s);
         FrameView {
             index,
@@ -384,7 +382,7 @@ impl World {
     }
 
     /// The runtime gaze of a view (pursuing `pursued`, if any).
-    pub fn gaze(&self, view: &FrameView, pursued: Option<crate::ObjectId>) -> Gaze {
+    pub fn gaze(&self, view: &FrameView, pursued: Option<acuity::ObjectId>) -> Gaze {
         Gaze {
             direction_camera: view.gaze_camera.as_vec3(),
             tracker: self.tracker(),

@@ -9,7 +9,7 @@
 //! inside the display's field of view lands on the display. Offsets are
 //! clamped to ±89 deg.
 //!
-//! Camera-space conventions are those of [`super::path`]: -Z forward, +Y up.
+//! Camera-space conventions are those of [`crate::path`]: -Z forward, +Y up.
 
 #![allow(
     clippy::neg_cmp_op_on_partial_ord,
@@ -18,7 +18,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::path::CameraPath;
+use crate::path::CameraPath;
 
 /// How the viewer's gaze is tracked, which sets the eccentricity margin
 /// (REFERENCE §3).
@@ -101,7 +101,7 @@ pub struct GazeSpec {
     pub tracker_error_deg: f64,
     /// With the head tracker: the eyes counter-rotate during head turns
     /// (`eyes_counter_rotate`, default true; see
-    /// [`crate::SelectorSettings::eyes_counter_rotate`]).
+    /// [`acuity::SelectorSettings::eyes_counter_rotate`]).
     pub eyes_counter_rotate: bool,
     /// With the eye tracker: the gaze speed, deg/s, above which a saccade
     /// lifts the floor of sampled motion (`saccade_threshold_deg_per_s`;
@@ -221,7 +221,7 @@ pub fn screen_point_to_direction(point_deg: DVec2) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::path::{CameraMotion, Keyframe};
+    use crate::path::{CameraMotion, Keyframe};
 
     fn still_camera() -> CameraPath {
         CameraPath {

@@ -3,8 +3,8 @@
 use std::process::ExitCode;
 
 use acuity::acuity::threshold_cpd;
-use acuity::tools::thresholds::ThresholdReport;
 use acuity::{Display, EccentricityModel, VelocityModel};
+use acuity_cli::thresholds::ThresholdReport;
 use clap::{Args, Parser, Subcommand};
 
 #[derive(Parser)]
@@ -26,12 +26,12 @@ enum Command {
     /// Analyse a scene's objects (or one OBJ) into profiles: render every
     /// LOD from viewpoints on the view sphere, measure the frequencies each
     /// LOD transition removes. Unchanged inputs are not analysed again.
-    Preprocess(acuity::tools::preprocess::PreprocessArgs),
+    Preprocess(acuity_cli::preprocess::PreprocessArgs),
     /// Fly a scene's camera path under each LOD policy: frame time,
     /// triangles, FLIP against full detail; a table, CSV, plots, images.
-    Run(acuity::tools::run::RunArgs),
+    Run(acuity_cli::run::RunArgs),
     /// The reference experiments of Reddy 1998 §5.
-    Experiment(acuity::tools::experiment::ExperimentArgs),
+    Experiment(acuity_cli::experiment::ExperimentArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -116,10 +116,10 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Run(args) => return acuity::tools::run::command(&args),
-        Command::Experiment(args) => return acuity::tools::experiment::command(&args),
+        Command::Run(args) => return acuity_cli::run::command(&args),
+        Command::Experiment(args) => return acuity_cli::experiment::command(&args),
         Command::Preprocess(args) => {
-            return acuity::tools::preprocess::finish(acuity::tools::preprocess::run(&args));
+            return acuity_cli::preprocess::finish(acuity_cli::preprocess::run(&args));
         }
         Command::Thresholds(display) => display
             .display()

@@ -1,8 +1,10 @@
-//! The command-line tools' building blocks: scene files, camera and gaze
-//! paths, and the baseline LOD policies acuity is compared with.
+//! `acuity-cli`: the `acuity` command-line tool and its building blocks:
+//! scene files, camera and gaze paths, the offline pass's driver, and the
+//! baseline LOD policies acuity is compared with.
 //!
-//! Nothing here is needed by the runtime; it is compiled only with the
-//! `tools` feature (on by default).
+//! A crate of its own so that the runtime (crate `acuity`) stays lean:
+//! nothing here is needed to select LODs, and the tool pulls in the GPU
+//! renderer, image and plot output, FLIP (C++) and argument parsing.
 //!
 //! - [`scene`]: the TOML scene format, [`scene::Scene::load`] and its one
 //!   error type [`scene::SceneError`]; [`limits`]: the largest counts,
@@ -16,6 +18,8 @@
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
+//! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
+//!   [`thresholds`]: `acuity thresholds`.
 
 mod arrays;
 pub mod dump;
@@ -62,7 +66,7 @@ mod tests {
     fn an_io_error_prints_once() {
         let io = std::io::Error::from(std::io::ErrorKind::IsADirectory);
         let text = io.to_string();
-        let e = anyhow::Error::new(crate::Error::Io {
+        let e = anyhow::Error::new(acuity::Error::Io {
             path: "cache/rock.acp".into(),
             source: io,
         })

@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use acuity_preprocess::Error;
-use acuity_preprocess::mesh::{load_obj, parse_obj};
+use acuity_render::Error;
+use acuity_render::mesh::{load_obj, parse_obj};
 use proptest::prelude::*;
 
 fn fixture(name: &str) -> PathBuf {
@@ -225,7 +225,7 @@ fn colours_come_from_vertex_colours_and_materials() {
     assert!(m.colors.contains(&[0.8, 0.1, 0.1]));
     assert!(
         m.colors
-            .contains(&acuity_preprocess::mesh::DEFAULT_COLOR_LINEAR)
+            .contains(&acuity_render::mesh::DEFAULT_COLOR_LINEAR)
     );
     let m = load_obj(&fixture("vertex_colors.obj")).unwrap().mesh;
     assert_eq!(
@@ -243,7 +243,7 @@ fn colours_come_from_vertex_colours_and_materials() {
     );
 }
 
-fn parse_bytes(bytes: &[u8]) -> Result<acuity_preprocess::LoadedMesh, Error> {
+fn parse_bytes(bytes: &[u8]) -> Result<acuity_render::LoadedMesh, Error> {
     let mtl = std::fs::read(fixture("good.mtl")).unwrap();
     parse_obj(bytes, Path::new("fuzz.obj"), &mut |_| {
         Ok((PathBuf::from("good.mtl"), mtl.clone()))

@@ -7,13 +7,13 @@
 //! (a [`Selector`] with culling on) puts outside the view. So triangle and
 //! frame-time differences come from LOD choices alone.
 
-use super::frames::{FrameView, World};
-use super::limits::MIN_SCALE;
-use super::scene::Policy;
-use super::screen_size::{
+use crate::frames::{FrameView, World};
+use crate::limits::MIN_SCALE;
+use crate::scene::Policy;
+use crate::screen_size::{
     BelowLast, ScreenSizeChoice, ScreenSizeLod, relative_height, thresholds_from,
 };
-use crate::{
+use acuity::{
     Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler, ReactiveSettings,
     Selector, SelectorSettings,
 };
@@ -131,7 +131,7 @@ impl PolicyRunner {
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;
         if matches!(policy, Policy::AcuityReactive | Policy::AcuityPredictive) {
-            crate::schedule::check_target_hz("run.target_hz", run.target_hz)?;
+            acuity::schedule::check_target_hz("run.target_hz", run.target_hz)?;
         }
         let target_hz = run.target_hz as f32;
         let scale = (run.scale_factor as f32).clamp(MIN_SCALE, 1.0);

@@ -557,8 +557,11 @@ fn parse_corner(
     Ok((v, n))
 }
 
-/// Decodes UTF-8 (BOM skipped), UTF-16 with BOM, or lossy bytes.
-pub(crate) fn decode_text(bytes: &[u8], path: &Path) -> Result<String, Error> {
+/// Decodes the text of an OBJ or MTL file as the loader reads it: UTF-8
+/// (BOM skipped), UTF-16 with BOM, or lossy bytes. `path` only names the
+/// file in the error (UTF-16 with an odd number of bytes). Public for the
+/// offline pass, which hashes the MTL files an OBJ names.
+pub fn decode_text(bytes: &[u8], path: &Path) -> Result<String, Error> {
     let utf16 = |be: bool| -> Result<String, Error> {
         let body = &bytes[2..];
         if !body.len().is_multiple_of(2) {
@@ -587,8 +590,9 @@ pub(crate) fn decode_text(bytes: &[u8], path: &Path) -> Result<String, Error> {
     }
 }
 
-/// Splits on `\n`, `\r\n` and lone `\r`, keeping line numbers right.
-pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
+/// Splits on `\n`, `\r\n` and lone `\r`, keeping line numbers right (the
+/// loader's lines; public with [`decode_text`]).
+pub fn split_lines(text: &str) -> impl Iterator<Item = &str> {
     let mut rest = Some(text);
     std::iter::from_fn(move || {
         let s = rest?;
