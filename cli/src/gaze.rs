@@ -106,7 +106,7 @@ pub struct GazeSpec {
     /// With the eye tracker: the gaze speed, deg/s, above which a saccade
     /// lifts the floor of sampled motion (`saccade_threshold_deg_per_s`;
     /// default none: never; see
-    /// [`crate::SelectorSettings::saccade_threshold_deg_per_s`]).
+    /// [`acuity::SelectorSettings::saccade_threshold_deg_per_s`]).
     pub saccade_threshold_deg_per_s: Option<f64>,
 }
 
