@@ -1,0 +1,274 @@
+//! Per-object LOD selection: the runtime's hot loop (REFERENCE §3–§4).
+//!
+//! For every object and frame: angular size `theta = 2 asin(r / d)`,
+//! eccentricity from the gaze, smoothed retinal velocity, the acuity
+//! `T = s H(v, E)` in c/deg, and the coarsest LOD `j` whose removed
+//! features (transitions `0..j` at the chosen viewpoint and the rung of the
+//! size ladder nearest the object's size on screen) are all invisible: a
+//! feature is invisible when its critical frequency in c/diam (its
+//! frequency scaled by how much contrast it has, [`crate::rows`]) exceeds
+//! `k = T u`, `u` the angular size the object is judged at (its rung's
+//! upper end, or its own size `theta` on the bottom and top rungs). Prefix minima of the critical frequencies are compiled
+//! per viewpoint and rung when a profile is added (they depend on the
+//! display's photometry and the observer), in rows padded with `-inf` to
+//! whole groups of 4, which makes the choice a count of 4-wide
+//! comparisons.
+//!
+//! Layout. Objects with more than one LOD live in blocks of 64, field by
+//! field within a block (`f64` centre coordinates, radius, profile index,
+//! rotation), with their motion state in matching blocks and their outputs
+//! in flat arrays; objects with one LOD live apart and are only culled (or
+//! not touched at all with culling off). Each block is first culled as a
+//! whole, branch-free (the camera-relative centre is taken in `f64` and then
+//! rounded to `f32`, so far-off scenes select like scenes at the origin);
+//! the visible objects of a sparse block go to a queue of up to 64, which
+//! is modelled when the next block's would not fit (a block with most
+//! objects visible is modelled whole, which costs less than queueing), in
+//! short passes over plain arrays that the compiler vectorises (branch-free
+//! polynomial `asin`/`acos`/`log10`, [`crate::fastmath`]), then the viewpoint lookup
+//! and the LOD count. Profiles with the same viewpoints share one lookup
+//! table; when every profile with more than one LOD has the same row
+//! stride and lookup (the profiles of one offline pass), rows are found and
+//! LODs counted in straight-line passes too, and a dense block's outputs
+//! are written by masks rather than object by object. 64 lanes a pass give
+//! each pass 4 independent vectors of 16 to overlap (the polynomials are
+//! long dependency chains); 32 measured about 1 ns per object slower with
+//! AVX-512. Each block's data is prefetched into L2 two blocks ahead (into
+//! L1 it evicts the loop's own 13 KB of scratch). With the feature
+//! `simd-dispatch` the loop runs compiled for AVX-512 or AVX2 and FMA where
+//! the CPU has them (bit-identical results: nothing is fused). The loop is
+//! monomorphised over the velocity, eccentricity and nearest-viewpoint
+//! switches, so a switched-off component costs nothing, allocates nothing,
+//! and runs on rayon (feature `parallel`) above
+//! [`SelectorSettings::parallel_min_objects`].
+//!
+//! Code: `selector` (objects, profiles, selection within a budget),
+//! `store` and `tables` (the object blocks and the compiled profiles),
+//! `frame` (a frame's constants), `dispatch` (vector width and parallel
+//! split), `kernel` (the loop) and `rule` (rungs and LOD counts).
+
+// Index loops over parallel fixed-size arrays are what vectorises here.
+#![allow(clippy::needless_range_loop)]
+
+use glam::{DVec3, Quat};
+
+use crate::acuity::{Components, EccentricityModel, VelocityModel};
+use crate::camera::{Camera, Gaze};
+use crate::csf::Observer;
+
+mod dispatch;
+mod frame;
+mod kernel;
+mod rule;
+mod selector;
+mod store;
+mod tables;
+#[cfg(test)]
+mod tests;
+
+pub use rule::lod_for_threshold;
+pub use selector::Selector;
+
+/// Objects per block of the store.
+const BLOCK: usize = 64;
+/// [`ProfileRows::lookup`](tables::ProfileRows::lookup) of a profile
+/// without viewpoint lookup.
+const NO_LOOKUP: u32 = u32::MAX;
+/// Retinal velocities are capped here, deg/s: far beyond the model's
+/// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
+pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
+const RAD_TO_DEG: f32 = 180.0 / std::f32::consts::PI;
+const SINGLE_LOD_BIT: u32 = 1 << 31;
+
+/// Handle of an object added to a [`Selector`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ObjectId(u32);
+
+/// Handle of a profile added to a [`Selector`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ProfileId(u32);
+
+/// An object's selection this frame: an LOD index (0 = finest) or culled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[repr(transparent)]
+pub struct Selection(u8);
+
+impl Selection {
+    /// Outside the view frustum or behind the camera.
+    pub const CULLED: Self = Self(u8::MAX);
+
+    /// The chosen LOD, or `None` when culled.
+    pub fn lod(self) -> Option<usize> {
+        (self != Self::CULLED).then_some(self.0 as usize)
+    }
+
+    /// Whether the object was culled.
+    pub fn is_culled(self) -> bool {
+        self == Self::CULLED
+    }
+}
+
+/// What went into one object's choice, for inspection and plots.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Diagnostics {
+    /// Angle subtended by the bounding sphere, deg (180 inside it).
+    pub angular_size_deg: f32,
+    /// Eccentricity after the tracker margin, deg (0 with the component off).
+    pub eccentricity_deg: f32,
+    /// Smoothed retinal velocity, deg/s (0 with the component off).
+    pub velocity_deg_per_s: f32,
+    /// The acuity the CSF is scaled to, `T = s H(v, E)` in c/deg: a
+    /// feature of contrast `c` is invisible above `T f_c(c) / H(0, 0)`.
+    pub threshold_cpd: f32,
+}
+
+/// Which viewpoint's frequencies apply to an object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ViewpointRule {
+    /// The sampled viewpoint nearest to the actual view direction.
+    #[default]
+    Nearest,
+    /// The lowest frequency over all viewpoints: never coarser than any
+    /// viewpoint allows, and no view direction needed.
+    WorstCase,
+}
+
+/// How a [`Selector`] works; fixed at creation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SelectorSettings {
+    /// Which model components may lower detail.
+    pub components: Components,
+    /// Which viewpoint's frequencies apply.
+    pub viewpoint_rule: ViewpointRule,
+    /// Whether to cull objects outside the frustum (no far plane). With it
+    /// off every object gets an LOD and single-LOD objects cost nothing.
+    pub cull: bool,
+    /// Time constant of the exponential smoothing of retinal velocity, s
+    /// (>= 0; 0 means no smoothing). The default, 0.05 s, averages over
+    /// about 3 frames at 60 Hz (Reddy 2001 averages "over several frames").
+    pub velocity_time_constant_s: f32,
+    /// Below this many objects the loop runs on the calling thread.
+    pub parallel_min_objects: usize,
+    /// Lowest `s` the budgeted selection may use, in `(0, 1]`.
+    pub min_scale: f32,
+    /// The widest vector instructions the loop may use, detected at run
+    /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
+    /// results are bit-identical at every level (nothing is fused or
+    /// reassociated).
+    pub simd: SimdLevel,
+    /// The observer's contrast sensitivity calibration (with the
+    /// display's photometry, it decides which contrasts are visible).
+    pub observer: Observer,
+    /// How acuity falls with eccentricity (`M(E)`).
+    pub eccentricity_model: EccentricityModel,
+    /// How acuity falls with retinal velocity (`G(v)`); on a display with
+    /// a refresh rate
+    /// ([`Display::with_refresh_hz`](crate::display::Display::with_refresh_hz))
+    /// never below the floor of sampled motion.
+    pub velocity_model: VelocityModel,
+    /// With head tracking only ([`crate::Tracker::Head`]): whether the eyes
+    /// counter-rotate when the head turns (the vestibulo-ocular reflex),
+    /// holding their direction in the world, so that a head turn alone
+    /// moves no world-fixed object on the retina. On (the default), retinal
+    /// velocity is measured in world-aligned axes: only the camera's
+    /// translation and objects' own motion count. Off, the eyes are taken
+    /// to turn with the head and a head turn sweeps everything across the
+    /// retina. Other trackers are unaffected: without tracking the
+    /// camera's turns are the display's content moving, and an eye tracker
+    /// reports the gaze itself.
+    pub eyes_counter_rotate: bool,
+    /// With an eye tracker ([`crate::Tracker::Eye`]): the gaze speed, deg/s
+    /// in world axes between consecutive frames, above which the eye is
+    /// taken to be in a saccade. During a saccade the eye is not fixating,
+    /// so the floor of sampled motion
+    /// ([`Display::with_refresh_hz`](crate::display::Display::with_refresh_hz))
+    /// does not hold: each object's detail follows `G(v)` at its retinal
+    /// velocity (the gaze's own sweep), which drops most of it (saccadic
+    /// suppression and motion smear). Detail returns on the first frame the
+    /// gaze is slower again, within the tens of milliseconds of suppression
+    /// that follow a saccade's landing. `f32::INFINITY` (the default), and
+    /// any value not > 0: never; [`SACCADE_THRESHOLD_DEG_PER_S`] is the
+    /// usual detection threshold.
+    pub saccade_threshold_deg_per_s: f32,
+}
+
+/// A gaze speed that only saccades reach, deg/s (smooth pursuit stays
+/// below about 100 deg/s; saccades of a few degrees or more peak at
+/// 200-700 deg/s): the usual velocity threshold of saccade detection.
+pub const SACCADE_THRESHOLD_DEG_PER_S: f32 = 180.0;
+
+/// The vector instructions the selection loop may use
+/// ([`SelectorSettings::simd`]); a level the CPU lacks falls back to the
+/// next one down.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SimdLevel {
+    /// The build's baseline instructions (x86-64: SSE2), for comparison.
+    Baseline,
+    /// At most AVX2 and FMA (x86-64-v3): for CPUs that lower their clock
+    /// for AVX-512, or for comparison.
+    Avx2,
+    /// The widest the CPU has: AVX-512 (x86-64-v4), else AVX2 and FMA.
+    #[default]
+    Widest,
+}
+
+impl Default for SelectorSettings {
+    fn default() -> Self {
+        Self {
+            components: Components::ALL,
+            viewpoint_rule: ViewpointRule::Nearest,
+            cull: true,
+            velocity_time_constant_s: 0.05,
+            parallel_min_objects: 32_768,
+            min_scale: 0.01,
+            simd: SimdLevel::Widest,
+            observer: Observer::default(),
+            eccentricity_model: EccentricityModel::default(),
+            velocity_model: VelocityModel::default(),
+            eyes_counter_rotate: true,
+            saccade_threshold_deg_per_s: f32::INFINITY,
+        }
+    }
+}
+
+/// An object to select LODs for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectDesc {
+    /// Centre of the bounding sphere, world units; each coordinate within
+    /// `±MAX_WORLD_COORDINATE`.
+    pub center: DVec3,
+    /// Radius of the bounding sphere, world units, finite and `>= 0`.
+    pub radius: f32,
+    /// Rotation from the object's frame (the profile's) to the world.
+    pub rotation: Quat,
+    /// The object's profile.
+    pub profile: ProfileId,
+}
+
+/// One frame's input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameInput {
+    /// The camera this frame.
+    pub camera: Camera,
+    /// The gaze this frame.
+    pub gaze: Gaze,
+    /// Time since the previous frame, s. Zero, negative, non-finite or
+    /// larger than 1e6 s: velocities are not updated this frame (they
+    /// keep their smoothed values).
+    pub dt_s: f32,
+    /// The global scale factor `s` in `(0, 1]` (1: imperceptible; lower
+    /// drops detail sooner). Values above 1 count as 1; `NaN`, zero and
+    /// negative values are refused.
+    pub scale: f32,
+}
+
+/// The result of [`Selector::select_within_budget`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BudgetOutcome {
+    /// The scale factor `s` chosen.
+    pub scale: f32,
+    /// Triangles of the chosen LODs (culled objects count 0).
+    pub triangles: u64,
+    /// Whether the budget was met (false when even the lowest `s` is over).
+    pub within_budget: bool,
+}
