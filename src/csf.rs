@@ -1,5 +1,4 @@
-//! Contrast sensitivity: when a feature of a given contrast is visible
-//! (REFERENCE §8).
+//! Contrast sensitivity: when a feature of a given contrast is visible.
 //!
 //! The foveal, static contrast sensitivity function is Barten's closed form
 //! (P. G. J. Barten, "Formula for the contrast sensitivity of the human

@@ -1,5 +1,5 @@
 //! A profile compiled for one display and observer: what the selection
-//! loop compares against (REFERENCE §4 and §8).
+//! loop compares against.
 //!
 //! A feature of frequency `f` c/diam and contrast `c` (after masking,
 //! [`Csf::masked_contrast`], judged by the CSF of its own field size,

@@ -1,4 +1,4 @@
-//! Fixed frame rate: choosing the global scale factor `s` (REFERENCE §6).
+//! Fixed frame rate: choosing the global scale factor `s`.
 //!
 //! - [`ReactiveScheduler`] (Reddy 1998 §6) watches measured frame times:
 //!   it lowers `s` after a frame over the target period and raises it,

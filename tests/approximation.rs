@@ -1,7 +1,7 @@
 //! The fast selection loop (polynomial asin/acos/log10/exp2, cube-map viewpoint
-//! lookup, f32) against an exact oracle written from REFERENCE §2–§4 in
-//! f64 with the standard library's functions (the critical frequencies of
-//! the transitions, REFERENCE §8, are the library's own).
+//! lookup, f32) against an exact oracle written from the model's equations
+//! (the docs of `acuity::acuity`) in f64 with the standard library's functions
+//! (the critical frequencies of the transitions are the library's own).
 
 mod common;
 

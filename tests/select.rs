@@ -1,4 +1,4 @@
-//! Behaviour of the per-object selection (REFERENCE §3–§4).
+//! Behaviour of the per-object selection.
 
 mod common;
 

@@ -1,5 +1,5 @@
 //! The unique features of an LOD transition, with their size and their
-//! contrast (Reddy 1998 §3.3; REFERENCE §5.3–5.6).
+//! contrast (Reddy 1998 §3.3).
 //!
 //! # Decisions
 //! - **Unique features** are where the two renderings differ (any

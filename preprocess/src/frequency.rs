@@ -5,9 +5,8 @@
 //!   the spread of the pixel centres projected on the direction, plus one
 //!   pixel (a pixel counts as one unit of length in every direction). A
 //!   feature of extent `L` pixels is half a cycle: `f = 1/(2L)` c/pixel.
-//! - **Statistic** ([`FrequencyStatistic`]): `Longest` (default, the
-//!   conservative choice of REFERENCE §5: the lowest frequency a feature
-//!   could be seen at), `Shortest` (the feature's width: what a grating's
+//! - **Statistic** ([`FrequencyStatistic`]): `Longest` (the conservative
+//!   bound: the lowest frequency a feature could be seen at), `Shortest` (the feature's width: what a grating's
 //!   bars give; accurate only for features aligned within about 90°/K of a
 //!   sampled direction, since long features measured slightly off their
 //!   normal read much wider), or `Mean` (mean caliper diameter over the K
@@ -42,8 +41,8 @@
 //!   every direction gives about the diameter, so `Longest`, `Mean` and
 //!   even `Shortest` report ~1 c/diam and the transition is never allowed
 //!   early. `Thickness` measures what acuity must resolve to see such a
-//!   sliver: its width, and is the default (REFERENCE §5: a feature's
-//!   relevant length is its width across). It agrees with the others on
+//!   sliver: its width, and is the default (a feature's relevant
+//!   length is its width across). It agrees with the others on
 //!   compact features (a disc gives `D` by all four); `Longest` remains as
 //!   the bound that a compact feature's longest span is the lowest
 //!   frequency it could be seen at. A thin feature's low contrast, not a
@@ -70,7 +69,7 @@ pub enum FrequencyStatistic {
     Mean,
     /// The diameter of the largest inscribed disc (the feature's width,
     /// whatever its shape or orientation; see the module docs). The
-    /// default: REFERENCE §5 takes a feature's width across as its length.
+    /// default: a feature's width across is its relevant length.
     #[default]
     Thickness,
 }

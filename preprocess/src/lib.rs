@@ -1,8 +1,7 @@
 //! acuity's offline pass: render each LOD of an object from viewpoints
 //! spread over its view sphere, find the features each LOD transition
 //! removes, and measure their spatial frequencies in cycles per object
-//! diameter and their contrast, at a ladder of on-screen sizes
-//! (REFERENCE §1 and §5).
+//! diameter and their contrast, at a ladder of on-screen sizes.
 //!
 //! Modules, one concept each: [`mesh`] (OBJ/MTL loading) and [`render`]
 //! (the shared headless renderer), both re-exported from crate

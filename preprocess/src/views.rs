@@ -14,7 +14,7 @@
 //! **Orthographic**, looking at the bounding sphere's centre, with the
 //! sphere's diameter exactly filling the square image (`D = resolution`
 //! pixels). Orthographic because the runtime converts a c/diam frequency to
-//! c/deg by the object's angular size alone (REFERENCE §1), which is exact
+//! c/deg by the object's angular size alone (`f / theta`), which is exact
 //! for an orthographic view and the small-angle limit of a perspective one;
 //! a perspective analysis camera would make the scale depend on an arbitrary
 //! analysis distance and vary across the image. Up is +Y unless the view

@@ -1,5 +1,5 @@
 //! Synthetic validation of feature extraction: shapes of known size give
-//! frequencies within 5% of the truth (REFERENCE §5; issue 3).
+//! frequencies within 5% of the truth.
 
 use FrequencyStatistic::*;
 use acuity_preprocess::features::{FeatureSettings, UniqueFeature, unique_features_of};

@@ -4,7 +4,8 @@
 //! A profile holds, for every sampled viewpoint, every rung of a ladder of
 //! on-screen sizes and every LOD transition `i -> i+1`, the unique features
 //! of that transition: each with its spatial frequency in cycles per
-//! object diameter (c/diam; REFERENCE §1), the pair of relative linear
+//! object diameter (c/diam: independent of the display; a frequency of `f`
+//! c/diam on an object `theta` degrees across is `f / theta` c/deg), the pair of relative linear
 //! luminances it shows in the two renderings (its contrast once a display
 //! is known) and the luminance range it sits on (what masks it). Only the features that can be the most visible are stored
 //! (no other feature is coarser, brighter on its bright side and darker on

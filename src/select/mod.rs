@@ -1,4 +1,4 @@
-//! Per-object LOD selection: the runtime's hot loop (REFERENCE §3–§4).
+//! Per-object LOD selection: the runtime's hot loop.
 //!
 //! For every object and frame: angular size `theta = 2 asin(r / d)`,
 //! eccentricity from the gaze, smoothed retinal velocity, the acuity

@@ -6,7 +6,7 @@ use glam::Vec4;
 
 use crate::fastmath;
 
-/// The selection rule (REFERENCE §4) for one object: the coarsest LOD `j`
+/// The selection rule for one object: the coarsest LOD `j`
 /// such that every feature removed on the way from LOD 0 is invisible.
 /// `prefix_min_cdiam[t]` is the lowest critical frequency of transitions
 /// `0..=t` in c/diam (non-increasing; `inf` where nothing visible changed;

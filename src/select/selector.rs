@@ -410,8 +410,8 @@ impl Selector {
         self.run(frame, frame.scale, Extra::Diagnostics)
     }
 
-    /// Predictive fixed-frame-rate selection (Funkhouser & Séquin 1993 as
-    /// REFERENCE §6 adapts it): picks the largest `s` in
+    /// Predictive fixed-frame-rate selection (after Funkhouser & Séquin
+    /// 1993, with `s` as the one knob): picks the largest `s` in
     /// `[settings.min_scale, frame.scale]` whose LODs together stay within
     /// `triangle_budget`, before anything is drawn, and selects with it.
     ///

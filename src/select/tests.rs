@@ -81,7 +81,8 @@ fn profile(rng: &mut Rng, lods: usize, views: usize) -> Profile {
 }
 
 /// The selection loop one object at a time, as plainly as it can be
-/// written (REFERENCE §3–§4), with its own motion state.
+/// written (the model of [`crate::acuity`], the rule of [`super::rule`]),
+/// with its own motion state.
 struct Reference {
     dir_eye: Vec<Vec3>,
     velocity_deg_per_s: Vec<f32>,
