@@ -21,10 +21,9 @@ use crate::dump::{Metric, check_fvvdp, score_fvvdp};
 use crate::frames::{ProfileArgs, World, parse_resolution};
 use crate::limits;
 use crate::placement::PlacementSpec;
+use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
-use crate::run::{
-    PlaySettings, Player, Summary, attach_jod, format_table, summarize, write_frames_csv,
-};
+use crate::report::{Summary, attach_jod, format_table, summarize, write_frames_csv};
 use crate::scene::{Policy, Scene};
 
 /// The paper's object counts.
@@ -464,7 +463,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     );
     print!("{}", format_table(&sums));
     write_frames_csv(&runs, &out.join("framerate.csv"))?;
-    let over_time = |f: &dyn Fn(&crate::run::FrameRecord) -> f64| -> Vec<Series> {
+    let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
                 name: r.policy.name().into(),

@@ -15,6 +15,8 @@
 //! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
 //! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
 //!   instances) and frame rendering; [`policy`]: the LOD policies;
+//!   [`player`]: playing a world's frames under policies; [`report`]:
+//!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
@@ -30,10 +32,12 @@ pub mod gaze;
 pub mod limits;
 pub mod path;
 pub mod placement;
+pub mod player;
 pub mod plot;
 pub mod policy;
 pub mod preprocess;
 pub mod profiles;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod screen_size;
