@@ -18,8 +18,9 @@ use std::process::ExitCode;
 use anyhow::{Context, anyhow, bail};
 
 use crate::dump::{Metric, check_fvvdp, score_fvvdp};
-use crate::frames::{ProfileArgs, World, parse_resolution};
+use crate::frames::{ProfileArgs, World};
 use crate::limits;
+use crate::parse::parse_resolution;
 use crate::placement::PlacementSpec;
 use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
@@ -177,7 +178,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
-        let p = crate::run::policy_by_name(name)?;
+        let p = crate::scene::policy_by_name(name)?;
         if !p.is_fixed_scale_acuity() {
             bail!("`{name}` is not an acuity policy with a fixed scale factor");
         }

@@ -8,7 +8,8 @@
 //!
 //! - [`scene`]: the TOML scene format, [`scene::Scene::load`] and its one
 //!   error type [`scene::SceneError`]; [`limits`]: the largest counts,
-//!   sizes and rates it and the command line accept.
+//!   sizes and rates it and the command line accept; [`parse`]: settings
+//!   parsed from text (statistic, resolution, threshold).
 //! - [`path`]: the evaluated camera path, [`path::CameraPath::sample`].
 //! - [`gaze`]: the evaluated gaze, [`gaze::Gaze::sample`].
 //! - [`placement`]: concrete object placements, including seeded copies.
@@ -30,6 +31,7 @@ pub mod flip;
 pub mod frames;
 pub mod gaze;
 pub mod limits;
+pub mod parse;
 pub mod path;
 pub mod placement;
 pub mod player;

@@ -85,13 +85,13 @@ pub struct PreprocessArgs {
     pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
     /// [default: a scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = parse_threshold)]
+    #[arg(long, value_parser = crate::parse::parse_threshold)]
     pub threshold: Option<f32>,
     /// Feature-size statistic: `thickness` (diameter of the largest
     /// inscribed disc: a thin sliver is as fine as its width, however
     /// long), `longest`, `shortest` or `mean` [default: a scene's
     /// `[profiles]`, else thickness].
-    #[arg(long, value_parser = crate::run::parse_statistic)]
+    #[arg(long, value_parser = crate::parse::parse_statistic)]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
@@ -107,14 +107,6 @@ pub struct PreprocessArgs {
     /// Analyse every object even when its cached profile is up to date.
     #[arg(long)]
     pub force: bool,
-}
-
-/// Parses a ΔE*uv threshold (command-line flag): finite and > 0.
-pub fn parse_threshold(text: &str) -> Result<f32, String> {
-    match text.parse::<f32>() {
-        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
-        _ => Err(format!("`{text}` is not a positive number")),
-    }
 }
 
 /// Why `acuity preprocess` failed, for its exit code (see [`finish`]).

@@ -15,13 +15,14 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 
 use crate::dump::Metric;
-use crate::frames::{ProfileArgs, World, parse_resolution};
+use crate::frames::{ProfileArgs, World};
+use crate::parse::parse_resolution;
 use crate::player::{PlaySettings, Player, PolicyRun};
 use crate::report::{
     Summary, attach_jod, format_table, summarize, write_frames_csv, write_plots,
     write_side_by_side, write_summary_csv,
 };
-use crate::scene::{Policy, Scene};
+use crate::scene::{Scene, policy_by_name};
 
 /// Arguments of `acuity run`.
 #[derive(clap::Args, Debug, Clone)]
@@ -57,32 +58,6 @@ pub struct RunArgs {
     /// Profiles and progress.
     #[command(flatten)]
     pub profiles: ProfileArgs,
-}
-
-/// Parses a feature-size statistic name: `longest`, `mean`, `shortest` or
-/// `thickness`.
-pub fn parse_statistic(text: &str) -> Result<acuity_preprocess::FrequencyStatistic, String> {
-    use acuity_preprocess::FrequencyStatistic as F;
-    match text {
-        "longest" => Ok(F::Longest),
-        "mean" => Ok(F::Mean),
-        "shortest" => Ok(F::Shortest),
-        "thickness" => Ok(F::Thickness),
-        _ => Err(format!(
-            "`{text}` is not one of longest, mean, shortest, thickness"
-        )),
-    }
-}
-
-/// A policy by its scene-file name.
-pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
-    Policy::ALL
-        .into_iter()
-        .find(|p| p.name() == name.trim())
-        .with_context(|| {
-            let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
-            format!("unknown policy `{name}` (known: {})", names.join(", "))
-        })
 }
 
 /// What [`run`] produced.

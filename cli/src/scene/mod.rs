@@ -82,9 +82,10 @@
     reason = "`!(x > 0.0)` is deliberate: it is also true for NaN"
 )]
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
+use anyhow::Context;
 use serde::Deserialize;
 
 use crate::gaze::{Gaze, GazeMode, GazeSpec};
@@ -93,15 +94,18 @@ use crate::placement::{Placement, PlacementSpec};
 
 pub use crate::limits::{MAX_COPIES, MAX_FRAMES, MAX_RESOLUTION_PX};
 
+mod context;
 mod error;
 mod locate;
+mod motion;
+mod objects;
 mod raw;
+mod settings;
 #[cfg(test)]
 mod tests;
 mod validate;
 
 pub use error::SceneError;
-use validate::Ctx;
 
 /// A parsed and validated scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -383,6 +387,17 @@ impl Policy {
     }
 }
 
+/// A policy by its scene-file name.
+pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
+    Policy::ALL
+        .into_iter()
+        .find(|p| p.name() == name.trim())
+        .with_context(|| {
+            let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
+            format!("unknown policy `{name}` (known: {})", names.join(", "))
+        })
+}
+
 /// Run settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSpec {
@@ -437,27 +452,6 @@ impl RunSpec {
 }
 
 impl Scene {
-    /// Reads, parses and validates a scene file, and checks that every mesh
-    /// file it names exists.
-    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let ctx = Ctx::new(&text, path);
-        let scene = ctx.scene()?;
-        ctx.check_files(&scene)?;
-        Ok(scene)
-    }
-
-    /// Parses and validates scene text. `path_for_messages` names the file
-    /// in errors, and its folder is the base of relative mesh paths. Does not
-    /// touch the file system. Never panics, whatever the text.
-    pub fn parse(text: &str, path_for_messages: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        Ctx::new(text, path_for_messages.as_ref()).scene()
-    }
-
     /// The object named `name`.
     pub fn object(&self, name: &str) -> Option<&ObjectSpec> {
         self.objects.iter().find(|o| o.name == name)

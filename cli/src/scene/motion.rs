@@ -3,9 +3,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::super::ObjectSpec;
-use super::super::raw::{RawCamera, RawGaze, RawGazeMode};
-use super::{Ctx, Res};
+use super::ObjectSpec;
+use super::context::{Ctx, Res};
+use super::raw::{RawCamera, RawGaze, RawGazeMode};
 use crate::arrays::Exact;
 use crate::gaze::{GazeMode, GazePoint, GazeSpec, Tracker};
 use crate::path::{CameraMotion, CameraPath, Keyframe, YawSweep};

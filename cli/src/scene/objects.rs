@@ -4,9 +4,9 @@
 
 use glam::DVec3;
 
-use super::super::raw::RawObject;
-use super::super::{MAX_COPIES, MeshSource, ObjectSpec};
-use super::{Ctx, Res};
+use super::context::{Ctx, Res};
+use super::raw::RawObject;
+use super::{MAX_COPIES, MeshSource, ObjectSpec};
 use crate::limits;
 use crate::placement::{Copies, PlacementSpec, Transform};
 
