@@ -229,11 +229,8 @@ impl World {
         let sources = scene
             .objects
             .iter()
-            .map(|o| {
-                object_source(&o.name, &o.source)
-                    .map_err(|reason| anyhow::anyhow!("object `{}`: {reason}", o.name))
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
+            .map(|o| object_source(&o.name, &o.source))
+            .collect::<Vec<_>>();
         check_distinct_cache_paths(&cache_dir, &sources).map_err(anyhow::Error::msg)?;
         let started = Instant::now();
         // Every object's LODs first, so the scene's size at full detail is

@@ -18,7 +18,7 @@
 //! mesh = "../models/bunny.obj"       # generate LODs from one mesh ...
 //! generate_triangles = [3674, 834, 254, 76]
 //! # lods = ["a.obj", "b.obj"]        # ... or give the chain finest first
-//! # procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }
+//! # procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }  # or "sphere", "torus"
 //! transform = { position = [0, 0, -5], rotation_deg = [30, 0, 0], scale = 0.1 }
 //!
 //! [[objects]]
@@ -273,12 +273,16 @@ impl ObjectSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ProceduralKind {
-    /// A unit sphere (radius 1).
+    /// A unit sphere (radius 1), a UV sphere tessellated at each LOD's
+    /// target (`acuity_preprocess::shapes::Shape::Sphere`).
     Sphere,
-    /// A torus, major radius 1, minor radius 0.35.
+    /// A torus, major radius 1, minor radius 0.35, tessellated at each
+    /// LOD's target (`acuity_preprocess::shapes::Shape::Torus`).
     Torus,
-    /// A unit sphere displaced by seeded multi-octave noise: features at
-    /// several spatial frequencies, so LOD transitions remove visible detail.
+    /// The offline pass's bumpy, colour-banded torus (major radius 1, minor
+    /// radius 0.4) with bumps at three scales, simplified to each LOD's
+    /// target: features at several spatial frequencies, so LOD transitions
+    /// remove visible detail (`acuity_preprocess::lods::procedural_object`).
     Rock,
 }
 
