@@ -18,13 +18,13 @@ use std::process::ExitCode;
 use anyhow::{Context, anyhow, bail};
 
 use crate::dump::{Metric, check_fvvdp, score_fvvdp};
-use crate::frames::{ProfileArgs, World, parse_resolution};
+use crate::frames::{ProfileArgs, World};
 use crate::limits;
+use crate::parse::parse_resolution;
 use crate::placement::PlacementSpec;
+use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
-use crate::run::{
-    PlaySettings, Player, Summary, attach_jod, format_table, summarize, write_frames_csv,
-};
+use crate::report::{Summary, attach_jod, format_table, summarize, write_frames_csv};
 use crate::scene::{Policy, Scene};
 
 /// The paper's object counts.
@@ -178,7 +178,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
-        let p = crate::run::policy_by_name(name)?;
+        let p = crate::scene::policy_by_name(name)?;
         if !p.is_fixed_scale_acuity() {
             bail!("`{name}` is not an acuity policy with a fixed scale factor");
         }
@@ -464,7 +464,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     );
     print!("{}", format_table(&sums));
     write_frames_csv(&runs, &out.join("framerate.csv"))?;
-    let over_time = |f: &dyn Fn(&crate::run::FrameRecord) -> f64| -> Vec<Series> {
+    let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
                 name: r.policy.name().into(),

@@ -100,11 +100,11 @@ pub struct ProfileArgs {
     /// Feature-size statistic of profiles that must be made: `thickness`
     /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or
     /// `shortest` [default: the scene's `[profiles]`, else thickness].
-    #[arg(long, value_parser = crate::run::parse_statistic)]
+    #[arg(long, value_parser = crate::parse::parse_statistic)]
     pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that
     /// must be made [default: the scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = crate::preprocess::parse_threshold)]
+    #[arg(long, value_parser = crate::parse::parse_threshold)]
     pub profile_threshold: Option<f32>,
     /// Print no progress lines on stderr.
     #[arg(long)]
@@ -133,18 +133,6 @@ impl ProfileArgs {
             settings: scene.overridden_by(self.spec()).analysis_settings(),
         }
     }
-}
-
-/// Parses a `WIDTHxHEIGHT` resolution in pixels (command-line flag).
-pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
-    let p = |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if (1..=crate::scene::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
-    };
-    Ok([p(a)?, p(b)?])
 }
 
 /// A loaded scene, ready to play.
@@ -241,11 +229,8 @@ impl World {
         let sources = scene
             .objects
             .iter()
-            .map(|o| {
-                object_source(&o.name, &o.source)
-                    .map_err(|reason| anyhow::anyhow!("object `{}`: {reason}", o.name))
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
+            .map(|o| object_source(&o.name, &o.source))
+            .collect::<Vec<_>>();
         check_distinct_cache_paths(&cache_dir, &sources).map_err(anyhow::Error::msg)?;
         let started = Instant::now();
         // Every object's LODs first, so the scene's size at full detail is

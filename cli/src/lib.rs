@@ -8,13 +8,16 @@
 //!
 //! - [`scene`]: the TOML scene format, [`scene::Scene::load`] and its one
 //!   error type [`scene::SceneError`]; [`limits`]: the largest counts,
-//!   sizes and rates it and the command line accept.
+//!   sizes and rates it and the command line accept; [`parse`]: settings
+//!   parsed from text (statistic, resolution, threshold).
 //! - [`path`]: the evaluated camera path, [`path::CameraPath::sample`].
 //! - [`gaze`]: the evaluated gaze, [`gaze::Gaze::sample`].
 //! - [`placement`]: concrete object placements, including seeded copies.
 //! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
 //! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
 //!   instances) and frame rendering; [`policy`]: the LOD policies;
+//!   [`player`]: playing a world's frames under policies; [`report`]:
+//!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
@@ -28,12 +31,15 @@ pub mod flip;
 pub mod frames;
 pub mod gaze;
 pub mod limits;
+pub mod parse;
 pub mod path;
 pub mod placement;
+pub mod player;
 pub mod plot;
 pub mod policy;
 pub mod preprocess;
 pub mod profiles;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod screen_size;

@@ -4,9 +4,8 @@
 //! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
 //!   objects are analysed from their files, `mesh` + `generate_triangles`
 //!   objects from LODs simplified from the mesh, and `procedural` objects
-//!   from the offline pass's procedural generator where it has one for the
-//!   kind (see [`object_source`]); a kind without a generator is reported
-//!   and skipped. Or one OBJ file (`.obj`): its LODs are generated at
+//!   from the offline pass's generators (see [`object_source`]). Or one
+//!   OBJ file (`.obj`): its LODs are generated at
 //!   `--triangles` (default the paper's 3928/834/254/76), and the object is
 //!   named after the file stem.
 //! - **Cache.** Profiles go to `--out` (default `<dir of PATH>/.acuity-cache/`)
@@ -21,8 +20,8 @@
 //!   parallel over its viewpoints (`--jobs` sets the rayon pool size).
 //! - **Errors.** A failing object is reported on stderr with the file and
 //!   line its error carries, and the others are still analysed. Exit code:
-//!   0 when every object has a profile (or was skipped for lack of a
-//!   generator), 1 when any object failed or no renderer could be made,
+//!   0 when every object has a profile, 1 when any object failed or no
+//!   renderer could be made,
 //!   2 for bad arguments (including a PATH that is not a readable scene or
 //!   OBJ file, or a scene file that does not parse).
 //! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
@@ -39,6 +38,7 @@ use std::time::{Duration, Instant};
 
 use acuity_preprocess::lods::{self, ProceduralParams};
 use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
+use acuity_preprocess::shapes::Shape;
 use acuity_preprocess::views;
 use acuity_render::{Renderer, RendererOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -85,13 +85,13 @@ pub struct PreprocessArgs {
     pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
     /// [default: a scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = parse_threshold)]
+    #[arg(long, value_parser = crate::parse::parse_threshold)]
     pub threshold: Option<f32>,
     /// Feature-size statistic: `thickness` (diameter of the largest
     /// inscribed disc: a thin sliver is as fine as its width, however
     /// long), `longest`, `shortest` or `mean` [default: a scene's
     /// `[profiles]`, else thickness].
-    #[arg(long, value_parser = crate::run::parse_statistic)]
+    #[arg(long, value_parser = crate::parse::parse_statistic)]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
@@ -107,14 +107,6 @@ pub struct PreprocessArgs {
     /// Analyse every object even when its cached profile is up to date.
     #[arg(long)]
     pub force: bool,
-}
-
-/// Parses a ΔE*uv threshold (command-line flag): finite and > 0.
-pub fn parse_threshold(text: &str) -> Result<f32, String> {
-    match text.parse::<f32>() {
-        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
-        _ => Err(format!("`{text}` is not a positive number")),
-    }
 }
 
 /// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
@@ -148,48 +140,48 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
     }
 }
 
-/// One object to preprocess: its source, or why it cannot be analysed.
+/// One object to preprocess.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Job {
     /// The object's name.
     pub name: String,
-    /// Its LOD source, or the reason it is skipped.
-    pub source: Result<ObjectSource, String>,
+    /// Its LOD source.
+    pub source: ObjectSource,
 }
 
 /// The offline pass's source for a scene object: files and generated LODs
-/// map one to one; of the procedural kinds only `rock` has a generator
-/// (the offline pass's bumpy, colour-banded torus with bumps at three
-/// scales, [`lods::procedural_object`], seed [`PROCEDURAL_SEED`]), so
-/// `sphere` and `torus` give `Err` with the reason.
-pub fn object_source(name: &str, source: &MeshSource) -> Result<ObjectSource, String> {
+/// map one to one; `rock` is the offline pass's bumpy, colour-banded torus
+/// with bumps at three scales ([`lods::procedural_object`], seed
+/// [`PROCEDURAL_SEED`]) simplified to each target, `sphere` and `torus`
+/// are [`Shape`]s tessellated at each target.
+pub fn object_source(name: &str, source: &MeshSource) -> ObjectSource {
     match source {
-        MeshSource::Lods(paths) => Ok(ObjectSource::Files {
+        MeshSource::Lods(paths) => ObjectSource::Files {
             name: name.into(),
             lod_paths: paths.clone(),
-        }),
-        MeshSource::Generated { mesh, triangles } => Ok(ObjectSource::Generated {
+        },
+        MeshSource::Generated { mesh, triangles } => ObjectSource::Generated {
             name: name.into(),
             path: mesh.clone(),
             triangle_targets: triangles.clone(),
-        }),
+        },
         MeshSource::Procedural { kind, triangles } => match kind {
-            ProceduralKind::Rock => Ok(ObjectSource::Procedural {
+            ProceduralKind::Rock => ObjectSource::Procedural {
                 name: name.into(),
                 params: ProceduralParams {
                     triangles: triangles.first().copied().unwrap_or(0),
                     seed: PROCEDURAL_SEED,
                 },
                 triangle_targets: triangles.clone(),
-            }),
-            ProceduralKind::Sphere | ProceduralKind::Torus => Err(format!(
-                "procedural kind `{}` has no generator in the offline pass \
-                 (acuity_preprocess::lods has one procedural object, used for `rock`); not analysed",
-                match kind {
-                    ProceduralKind::Sphere => "sphere",
-                    _ => "torus",
-                }
-            )),
+            },
+            ProceduralKind::Sphere | ProceduralKind::Torus => ObjectSource::Shape {
+                name: name.into(),
+                shape: match kind {
+                    ProceduralKind::Sphere => Shape::Sphere,
+                    _ => Shape::Torus,
+                },
+                triangle_targets: triangles.clone(),
+            },
         },
     }
 }
@@ -249,11 +241,11 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .unwrap_or_else(|| "object".into());
             let job = Job {
                 name: name.clone(),
-                source: Ok(ObjectSource::Generated {
+                source: ObjectSource::Generated {
                     name,
                     path: path.clone(),
                     triangle_targets: targets,
-                }),
+                },
             };
             Ok((vec![job], default_out, ProfileSpec::default()))
         }
@@ -269,7 +261,6 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
 enum Outcome {
     Cached(Profile),
     Analysed(Profile),
-    Skipped(String),
     Failed(String),
 }
 
@@ -298,11 +289,8 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         .validate()
         .map_err(|e| PreprocessError::Usage(e.to_string()))?;
     let out_dir = args.out.clone().unwrap_or(default_out);
-    profiles::check_distinct_cache_paths(
-        &out_dir,
-        jobs.iter().filter_map(|j| j.source.as_ref().ok()),
-    )
-    .map_err(PreprocessError::Usage)?;
+    profiles::check_distinct_cache_paths(&out_dir, jobs.iter().map(|j| &j.source))
+        .map_err(PreprocessError::Usage)?;
     let rows = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -344,20 +332,18 @@ fn process(
                 seconds: t0.elapsed().as_secs_f64(),
             })
         };
-        match &j.source {
-            Err(reason) => rows.push(row(Outcome::Skipped(reason.clone()))),
-            Ok(_) if analyse_all => {
+        if analyse_all {
+            rows.push(None);
+            to_analyse.push(i);
+            continue;
+        }
+        match profiles::cached_profile(&j.source, settings, out_dir) {
+            Ok(Some(p)) => rows.push(row(Outcome::Cached(p))),
+            Ok(None) => {
                 rows.push(None);
                 to_analyse.push(i);
             }
-            Ok(src) => match profiles::cached_profile(src, settings, out_dir) {
-                Ok(Some(p)) => rows.push(row(Outcome::Cached(p))),
-                Ok(None) => {
-                    rows.push(None);
-                    to_analyse.push(i);
-                }
-                Err(e) => rows.push(row(Outcome::Failed(crate::error_line(&e)))),
-            },
+            Err(e) => rows.push(row(Outcome::Failed(crate::error_line(&e)))),
         }
     }
 
@@ -390,7 +376,6 @@ fn process(
             Some(Outcome::Cached(_)) => {
                 println!("{}: cached (inputs unchanged, nothing rendered)", j.name)
             }
-            Some(Outcome::Skipped(why)) => println!("{}: skipped: {why}", j.name),
             Some(Outcome::Failed(e)) => eprintln!("error: object `{}`: {e}", j.name),
             _ => {}
         }
@@ -399,7 +384,7 @@ fn process(
     let mut renderer: Option<Result<Renderer, String>> = None;
     for &i in &to_analyse {
         let j = &jobs[i];
-        let Ok(src) = &j.source else { continue };
+        let src = &j.source;
         let t0 = Instant::now();
         bar.set_message(j.name.clone());
         let r = renderer.get_or_insert_with(|| {
@@ -451,7 +436,7 @@ fn process(
             let (Outcome::Cached(p) | Outcome::Analysed(p)) = &row.outcome else {
                 continue;
             };
-            let Ok(src) = &j.source else { continue };
+            let src = &j.source;
             let path = profiles::cache_path(out_dir, src).with_extension("json");
             if let Err(e) = write_json_if_changed(p, &path) {
                 let line = crate::error_line(&e);
@@ -533,7 +518,6 @@ fn table(rows: &[Row]) -> String {
             let (profile, result) = match &r.outcome {
                 Outcome::Cached(p) => (Some(p), "cached".to_string()),
                 Outcome::Analysed(p) => (Some(p), "analysed".to_string()),
-                Outcome::Skipped(_) => (None, "skipped".to_string()),
                 Outcome::Failed(_) => (None, "FAILED".to_string()),
             };
             let dash = || "-".to_string();

@@ -6,7 +6,8 @@
 //! Modules, one concept each: [`mesh`] (OBJ/MTL loading) and [`render`]
 //! (the shared headless renderer), both re-exported from crate
 //! `acuity-render`; [`lods`] (LOD chains, simplification, a procedural
-//! test object), [`views`] (viewpoints and camera), [`segment`] (CIELUV
+//! test object), [`shapes`] (a sphere and a torus tessellated to a
+//! triangle count), [`views`] (viewpoints and camera), [`segment`] (CIELUV
 //! and region growing), [`frequency`] (a feature's size as a frequency),
 //! [`features`] (the unique features of a transition and their contrast),
 //! [`pipeline`] (the whole analysis).
@@ -20,6 +21,7 @@ pub mod frequency;
 pub mod lods;
 pub mod pipeline;
 pub mod segment;
+pub mod shapes;
 pub mod views;
 
 pub use acuity_render as render;

@@ -51,6 +51,7 @@ use crate::frequency::{self, FrequencyStatistic};
 use crate::lods::{self, ProceduralParams};
 use crate::render::{Lighting, MeshId, RenderRequest, Renderer};
 use crate::segment::{self, LuvImage, Regions};
+use crate::shapes::Shape;
 use crate::views;
 use crate::{Error, Mesh};
 
@@ -194,6 +195,16 @@ pub enum ObjectSource {
         /// Triangle targets, finest first, strictly decreasing.
         triangle_targets: Vec<u32>,
     },
+    /// A plain test shape tessellated at each triangle target (see
+    /// [`Shape::lods`]).
+    Shape {
+        /// Object name.
+        name: String,
+        /// The shape.
+        shape: Shape,
+        /// Triangle targets, finest first, strictly decreasing.
+        triangle_targets: Vec<u32>,
+    },
 }
 
 impl ObjectSource {
@@ -202,7 +213,8 @@ impl ObjectSource {
         match self {
             Self::Files { name, .. }
             | Self::Generated { name, .. }
-            | Self::Procedural { name, .. } => name,
+            | Self::Procedural { name, .. }
+            | Self::Shape { name, .. } => name,
         }
     }
 
@@ -229,6 +241,11 @@ impl ObjectSource {
                 let m = lods::procedural_object(*params);
                 Ok((lods::generate_lods(name, &m, triangle_targets)?, Vec::new()))
             }
+            Self::Shape {
+                name,
+                shape,
+                triangle_targets,
+            } => Ok((shape.lods(name, triangle_targets)?, Vec::new())),
         }
     }
 }
@@ -703,6 +720,18 @@ pub fn input_hashes(
             out.push(InputHash {
                 what: "lod-generation".into(),
                 hash_hex: hash_str(&format!("meshopt-simplify targets={triangle_targets:?}")),
+            });
+        }
+        ObjectSource::Shape {
+            shape,
+            triangle_targets,
+            ..
+        } => {
+            out.push(InputHash {
+                what: format!("procedural:{}", shape.name()),
+                hash_hex: hash_str(&format!(
+                    "tessellate {shape:?} targets={triangle_targets:?}"
+                )),
             });
         }
     }

@@ -1,0 +1,41 @@
+//! String parsing of settings given as text (command-line flags, and the
+//! scene file's `statistic`): each function takes the text and returns the
+//! value or a one-line reason, as clap's `value_parser` wants. A leaf
+//! module (it uses only [`crate::limits`]), so the scene format, the world
+//! and the commands can all parse the same way without importing each
+//! other.
+
+/// Parses a feature-size statistic name: `longest`, `mean`, `shortest` or
+/// `thickness`.
+pub fn parse_statistic(text: &str) -> Result<acuity_preprocess::FrequencyStatistic, String> {
+    use acuity_preprocess::FrequencyStatistic as F;
+    match text {
+        "longest" => Ok(F::Longest),
+        "mean" => Ok(F::Mean),
+        "shortest" => Ok(F::Shortest),
+        "thickness" => Ok(F::Thickness),
+        _ => Err(format!(
+            "`{text}` is not one of longest, mean, shortest, thickness"
+        )),
+    }
+}
+
+/// Parses a `WIDTHxHEIGHT` resolution in pixels (command-line flag).
+pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    let (a, b) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
+    let p = |s: &str| match s.trim().parse::<u32>() {
+        Ok(v) if (1..=crate::limits::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
+    };
+    Ok([p(a)?, p(b)?])
+}
+
+/// Parses a ΔE*uv threshold (command-line flag): finite and > 0.
+pub fn parse_threshold(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("`{text}` is not a positive number")),
+    }
+}

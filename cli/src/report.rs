@@ -1,0 +1,326 @@
+//! The reports of played runs: per-policy summaries ([`Summary`]), the
+//! text table, the per-frame and summary CSVs, the line plots over time and
+//! the side-by-side FLIP images that `acuity run` writes (the experiments
+//! reuse the summaries, table and CSV).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, bail};
+use image::RgbImage;
+
+use crate::dump::sequence_name;
+use crate::flip::quantile;
+use crate::player::{FrameRecord, PolicyRun, WorstFrame};
+use crate::plot::{LinePlot, Series, save_line_plot};
+use crate::scene::Policy;
+
+/// Per-policy summary of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The policy.
+    pub policy: Policy,
+    /// Its knob ([`PolicyRun::knob`]).
+    pub knob: f64,
+    /// Mean frame time, milliseconds.
+    pub mean_ms: f64,
+    /// 95th percentile frame time, milliseconds.
+    pub p95_ms: f64,
+    /// Mean triangles per frame.
+    pub triangles: f64,
+    /// Mean draw calls per frame.
+    pub draw_calls: f64,
+    /// Mean LOD index over drawn instances and frames (0 = finest).
+    pub mean_lod: f64,
+    /// Mean frame time of full detail over this policy's, measured in the
+    /// same run; `None` without a full-detail run.
+    pub speedup: Option<f64>,
+    /// Full detail's mean triangles over this policy's.
+    pub triangle_ratio: Option<f64>,
+    /// Mean over sampled frames of the frame's mean FLIP; NaN if none.
+    pub flip_mean: f64,
+    /// 95th percentile over sampled frames of the frame's mean FLIP.
+    pub flip_p95: f64,
+    /// Fraction of frames longer than the target period.
+    pub over_budget: f64,
+    /// Mean scale factor `s`.
+    pub mean_scale: f64,
+    /// LOD switches of drawn instances per second of simulated time
+    /// (popping); NaN for a single frame.
+    pub switches_per_s: f64,
+    /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
+    /// identical); `None` unless scored ([`attach_jod`]).
+    pub jod: Option<f64>,
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { f64::NAN } else { s / n as f64 }
+}
+
+/// Summarises runs; `budget_s` is the target frame period in seconds.
+pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
+    let base = |f: &dyn Fn(&PolicyRun) -> f64| {
+        runs.iter()
+            .find(|r| r.policy == Policy::Full)
+            .map(f)
+            .filter(|v| v.is_finite() && *v > 0.0)
+    };
+    let ms = |r: &PolicyRun| mean(r.frames.iter().map(|f| f.frame_ms));
+    let tris = |r: &PolicyRun| mean(r.frames.iter().map(|f| f.triangles as f64));
+    let (full_ms, full_tris) = (base(&ms), base(&tris));
+    runs.iter()
+        .map(|r| {
+            let times: Vec<f64> = r.frames.iter().map(|f| f.frame_ms).collect();
+            let flips: Vec<f64> = r
+                .frames
+                .iter()
+                .filter_map(|f| f.flip_mean.map(f64::from))
+                .collect();
+            let n = r.frames.len().max(1) as f64;
+            Summary {
+                policy: r.policy,
+                knob: r.knob,
+                mean_ms: ms(r),
+                p95_ms: quantile(&times, 0.95),
+                triangles: tris(r),
+                draw_calls: mean(r.frames.iter().map(|f| f64::from(f.draw_calls))),
+                mean_lod: mean(
+                    r.frames
+                        .iter()
+                        .map(|f| f.mean_lod)
+                        .filter(|x| x.is_finite()),
+                ),
+                speedup: full_ms.map(|b| b / ms(r)),
+                triangle_ratio: full_tris.map(|b| b / tris(r)),
+                flip_mean: mean(flips.iter().copied()),
+                flip_p95: quantile(&flips, 0.95),
+                over_budget: r
+                    .frames
+                    .iter()
+                    .filter(|f| f.frame_ms * 1e-3 > budget_s)
+                    .count() as f64
+                    / n,
+                mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
+                switches_per_s: {
+                    let span = match (r.frames.first(), r.frames.last()) {
+                        (Some(a), Some(b)) => b.t_s - a.t_s,
+                        _ => 0.0,
+                    };
+                    let total: u64 = r.frames.iter().map(|f| u64::from(f.lod_switches)).sum();
+                    if span > 0.0 {
+                        total as f64 / span
+                    } else {
+                        f64::NAN
+                    }
+                },
+                jod: None,
+            }
+        })
+        .collect()
+}
+
+/// Sets each summary's [`Summary::jod`] from FovVideoVDP scores by
+/// sequence name ([`sequence_name`]); every summary must have one.
+pub fn attach_jod(summaries: &mut [Summary], scores: &BTreeMap<String, f64>) -> anyhow::Result<()> {
+    for s in summaries {
+        let name = sequence_name(s.policy, s.knob);
+        let jod = scores
+            .get(&name)
+            .with_context(|| format!("FovVideoVDP gave no score for `{name}`"))?;
+        s.jod = Some(*jod);
+    }
+    Ok(())
+}
+
+/// The summary as a text table; a JOD column when any summary has one.
+pub fn format_table(summaries: &[Summary]) -> String {
+    let with_jod = summaries.iter().any(|s| s.jod.is_some());
+    let jod_col = |v: Option<f64>| match (with_jod, v) {
+        (false, _) => String::new(),
+        (true, Some(v)) => format!(" {v:>6.3}"),
+        (true, None) => format!(" {:>6}", "-"),
+    };
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
+        "policy",
+        "mean ms",
+        "p95 ms",
+        "tris/frm",
+        "draws",
+        "speedup",
+        "tri x",
+        "LOD",
+        "sw/s",
+        "FLIP",
+        "FLIP p95",
+        "over%",
+        "s",
+        if with_jod {
+            format!(" {:>6}", "JOD")
+        } else {
+            String::new()
+        }
+    );
+    let opt = |v: Option<f64>| v.map_or("-".to_owned(), |v| format!("{v:.2}x"));
+    let flip = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.4}")
+        } else {
+            "-".to_owned()
+        }
+    };
+    for s in summaries {
+        let _ = writeln!(
+            t,
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>6.1} {:>8} {:>8} {:>6.1} {:>5.2}{}",
+            s.policy.name(),
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.draw_calls,
+            opt(s.speedup),
+            opt(s.triangle_ratio),
+            s.mean_lod,
+            s.switches_per_s,
+            flip(s.flip_mean),
+            flip(s.flip_p95),
+            100.0 * s.over_budget,
+            s.mean_scale,
+            jod_col(s.jod)
+        );
+    }
+    t
+}
+
+/// Writes the per-frame CSV.
+pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
+    let mut t = String::from(
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95\n",
+    );
+    let o = |v: Option<String>| v.unwrap_or_default();
+    for r in runs {
+        for f in &r.frames {
+            let _ = writeln!(
+                t,
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{}",
+                f.policy.name(),
+                f.frame,
+                f.t_s,
+                f.frame_ms,
+                f.select_ms,
+                f.triangles,
+                f.draw_calls,
+                f.drawn,
+                f.mean_lod,
+                f.lod_switches,
+                f.scale,
+                o(f.triangle_budget.map(|b| b.to_string())),
+                o(f.flip_mean.map(|v| format!("{v:.6}"))),
+                o(f.flip_p95.map(|v| format!("{v:.6}"))),
+            );
+        }
+    }
+    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes the summary CSV.
+pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
+    let mut t = String::from(
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
+    );
+    let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
+    for s in summaries {
+        let _ = writeln!(
+            t,
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{}",
+            s.policy.name(),
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.draw_calls,
+            s.mean_lod,
+            s.switches_per_s,
+            o(s.speedup),
+            o(s.triangle_ratio),
+            s.flip_mean,
+            s.flip_p95,
+            s.over_budget,
+            s.mean_scale,
+            s.jod.map(|v| format!("{v:.4}")).unwrap_or_default()
+        );
+    }
+    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes `reference | test | FLIP map` side by side as one PNG.
+pub fn write_side_by_side(
+    reference_rgba: &[u8],
+    worst: &WorstFrame,
+    [w, h]: [u32; 2],
+    path: &Path,
+) -> anyhow::Result<()> {
+    let n = w as usize * h as usize;
+    if reference_rgba.len() != 4 * n
+        || worst.test_rgba.len() != 4 * n
+        || worst.map_rgb.len() != 3 * n
+    {
+        bail!("side-by-side images do not match {w}x{h}");
+    }
+    let mut img = RgbImage::new(3 * w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            let px = |b: &[u8], n: usize| image::Rgb([b[n * i], b[n * i + 1], b[n * i + 2]]);
+            img.put_pixel(x, y, px(reference_rgba, 4));
+            img.put_pixel(w + x, y, px(&worst.test_rgba, 4));
+            img.put_pixel(2 * w + x, y, px(&worst.map_rgb, 3));
+        }
+    }
+    img.save(path)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn over_time(runs: &[PolicyRun], f: impl Fn(&FrameRecord) -> f64) -> Vec<Series> {
+    runs.iter()
+        .map(|r| Series {
+            name: r.policy.name().to_owned(),
+            points: r.frames.iter().map(|x| (x.t_s, f(x))).collect(),
+        })
+        .collect()
+}
+
+/// Writes the plots: frame time, triangles and `s` over time per policy.
+pub fn write_plots(runs: &[PolicyRun], scene_name: &str, dir: &Path) -> anyhow::Result<()> {
+    let plot = |title: &str, y: &str, series| LinePlot {
+        title: format!("{scene_name}: {title}"),
+        x_label: "simulated time (s)".into(),
+        y_label: y.into(),
+        series,
+        y_from_zero: true,
+        ..Default::default()
+    };
+    save_line_plot(
+        &plot("frame time", "ms", over_time(runs, |f| f.frame_ms)),
+        &dir.join("frame_time.png"),
+    )?;
+    save_line_plot(
+        &plot(
+            "triangles",
+            "triangles",
+            over_time(runs, |f| f.triangles as f64),
+        ),
+        &dir.join("triangles.png"),
+    )?;
+    save_line_plot(
+        &plot(
+            "scale factor s",
+            "s",
+            over_time(runs, |f| f64::from(f.scale)),
+        ),
+        &dir.join("scale.png"),
+    )
+}

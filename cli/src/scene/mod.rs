@@ -1,0 +1,481 @@
+//! Scene files: what a run renders, how the camera and gaze move, and which
+//! LOD policies to compare.
+//!
+//! A scene is a TOML file with six tables. Units are in the key names
+//! (`_deg`, `_cm`, `_s`, `_m_per_s`, `_hz`); positions are metres in the
+//! world frame of [`crate::path`] (right-handed, +Y up, the camera looks
+//! along -Z). Paths to meshes are relative to the scene file.
+//!
+//! ```toml
+//! [display]
+//! resolution = [1280, 1024]          # pixels, width x height
+//! fov_deg = [43.6, 33.4]             # horizontal, vertical; or instead:
+//! # screen_cm = [40, 30]             # physical width, height
+//! # distance_cm = 50                 # eye to screen
+//!
+//! [[objects]]
+//! name = "bunny"
+//! mesh = "../models/bunny.obj"       # generate LODs from one mesh ...
+//! generate_triangles = [3674, 834, 254, 76]
+//! # lods = ["a.obj", "b.obj"]        # ... or give the chain finest first
+//! # procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }  # or "sphere", "torus"
+//! transform = { position = [0, 0, -5], rotation_deg = [30, 0, 0], scale = 0.1 }
+//!
+//! [[objects]]
+//! name = "rocks"
+//! procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }
+//! copies = { count = 50, seed = 7, volume_min = [-10, 0, -40], volume_max = [10, 3, -5], random_rotation = true }
+//!
+//! [camera]
+//! duration_s = 5.0
+//! forward_speed_m_per_s = 4.36       # or keyframes = [{ t = 0, position = [..], yaw_deg = 0 }, ..]
+//! start = { position = [0, 1.5, 0], yaw_deg = 0, pitch_deg = 0 }
+//! yaw_sweep = { amplitude_deg = 60, rate_deg_per_s = 120 }
+//!
+//! [gaze]                             # optional; default: screen centre, no tracker
+//! mode = "track"                     # "screen_centre" | "fixed" | "path" | "track"
+//! object = "bunny"
+//! copy = 0
+//! tracker = "eye"                    # "none" | "head" | "eye"
+//! eye_error_deg = 1.0                # only with tracker = "eye"
+//! saccade_threshold_deg_per_s = 180  # only with tracker = "eye"; default: no saccade rule
+//!
+//! [run]                              # optional; defaults shown in RunSpec
+//! target_hz = 60
+//! policies = ["full", "screen_size", "acuity_all"]
+//! frames = 300                       # or dt_s = 0.0166; default 1 / target_hz
+//! flip_every_n_frames = 10
+//! screen_size_bias = 1.0
+//! screen_size_thresholds = [0.6, 0.3, 0.1, 0.03]  # relative heights, one per LOD
+//! screen_size_foveated = false       # weight screen size by M(E) at the gaze
+//!
+//! [profiles]                         # optional; how the offline pass analyses
+//! resolution = 512                   # the size ladder's largest rung, pixels
+//! min_diameter = 16                  # its smallest rung (rungs halve from `resolution`)
+//! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
+//! statistic = "thickness"            # "thickness" | "longest" | "mean" | "shortest"
+//! threshold_delta_e = 2.3            # just-noticeable ΔE*uv of region growing
+//! msaa_samples = 4                   # anti-aliasing of the analysis and of `run`'s frames
+//! ```
+//!
+//! `[profiles]` records how an asset library's profiles are made, so every
+//! command that analyses the scene (`acuity preprocess`, `run`,
+//! `experiment`) makes the same ones; a command-line flag overrides a key,
+//! and a key left out takes the offline pass's default
+//! ([`acuity_preprocess::AnalysisSettings::default`]).
+//!
+//! Unknown keys are errors (so a misspelt key is not silently ignored), and
+//! so are NaN and infinite numbers anywhere in the file and arrays longer
+//! or shorter than their field's. Every error is a [`SceneError`] naming
+//! the file, line, column and field path (`objects[2].copies.count`).
+//!
+//! Limits ([`crate::limits`] has them all): at most 10,000,000 frames
+//! (`run.frames`, or as `dt_s` or `target_hz` imply), 16,384 pixels a
+//! display side, 1,000,000 copies of an object, 10,000,000 triangles a
+//! procedural LOD and 1,000,000,000 triangles at full detail over all
+//! instances; `target_hz` in 1..=10,000 Hz, `dt_s` in 0.0001..=1 s, and
+//! `scale_factor` in (0, 1] (below 1.2e-38 it selects as 1.2e-38). A value
+//! beyond a limit is an error naming the field and the limit.
+
+#![allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberate: it is also true for NaN"
+)]
+
+use std::path::PathBuf;
+
+use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
+use anyhow::Context;
+use serde::Deserialize;
+
+use crate::gaze::{Gaze, GazeMode, GazeSpec};
+use crate::path::CameraPath;
+use crate::placement::{Placement, PlacementSpec};
+
+pub use crate::limits::{MAX_COPIES, MAX_FRAMES, MAX_RESOLUTION_PX};
+
+mod context;
+mod error;
+mod locate;
+mod motion;
+mod objects;
+mod raw;
+mod settings;
+#[cfg(test)]
+mod tests;
+mod validate;
+
+pub use error::SceneError;
+
+/// A parsed and validated scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The file the scene came from (or the name given to [`Scene::parse`]);
+    /// mesh paths were resolved against its folder.
+    pub source_path: PathBuf,
+    /// The display.
+    pub display: DisplaySpec,
+    /// The objects, in file order (at least one; names are unique).
+    pub objects: Vec<ObjectSpec>,
+    /// The camera path.
+    pub camera: CameraPath,
+    /// The gaze.
+    pub gaze: GazeSpec,
+    /// Run settings.
+    pub run: RunSpec,
+    /// How the scene's profiles are made.
+    pub profiles: ProfileSpec,
+    /// The viewer's contrast sensitivity calibration (`[observer]`).
+    pub observer: acuity::Observer,
+    /// How acuity falls with eccentricity (`[observer] eccentricity_model`).
+    pub eccentricity_model: acuity::EccentricityModel,
+    /// How acuity falls with retinal velocity (`[observer] velocity_model`).
+    pub velocity_model: acuity::VelocityModel,
+}
+
+/// How profiles are made (`[profiles]`, or the matching command-line flags);
+/// `None` leaves a setting at the offline pass's default.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ProfileSpec {
+    /// Side of each rendered view at the size ladder's largest rung,
+    /// pixels (16..=8192).
+    pub resolution_px: Option<u32>,
+    /// The size ladder's smallest rung, pixels (4..=`resolution_px`).
+    pub min_diameter_px: Option<u32>,
+    /// MSAA samples of the analysis and of the scene's frames (1 or what
+    /// the adapter supports, usually 4).
+    pub msaa_samples: Option<u32>,
+    /// View-sphere level (0..=6; 0 = 6 viewpoints, 1 = 18, 2 = 66).
+    pub viewpoint_level: Option<u32>,
+    /// Feature-size statistic.
+    pub statistic: Option<FrequencyStatistic>,
+    /// Just-noticeable colour difference, ΔE*uv (finite, > 0).
+    pub threshold_delta_e: Option<f32>,
+}
+
+impl ProfileSpec {
+    /// Each setting from `over` where it has one, else from `self`.
+    pub fn overridden_by(self, over: ProfileSpec) -> ProfileSpec {
+        ProfileSpec {
+            resolution_px: over.resolution_px.or(self.resolution_px),
+            min_diameter_px: over.min_diameter_px.or(self.min_diameter_px),
+            msaa_samples: over.msaa_samples.or(self.msaa_samples),
+            viewpoint_level: over.viewpoint_level.or(self.viewpoint_level),
+            statistic: over.statistic.or(self.statistic),
+            threshold_delta_e: over.threshold_delta_e.or(self.threshold_delta_e),
+        }
+    }
+
+    /// The offline pass's settings: these values over its defaults.
+    pub fn analysis_settings(&self) -> AnalysisSettings {
+        let d = AnalysisSettings::default();
+        AnalysisSettings {
+            resolution_px: self.resolution_px.unwrap_or(d.resolution_px),
+            // The default smallest rung, not an explicit one, shrinks to fit
+            // a small largest rung.
+            min_diameter_px: self.min_diameter_px.unwrap_or(
+                d.min_diameter_px
+                    .min(self.resolution_px.unwrap_or(d.resolution_px)),
+            ),
+            msaa_samples: self.msaa_samples.unwrap_or(d.msaa_samples),
+            viewpoint_level: self.viewpoint_level.unwrap_or(d.viewpoint_level),
+            statistic: self.statistic.unwrap_or(d.statistic),
+            threshold_delta_e: self.threshold_delta_e.unwrap_or(d.threshold_delta_e),
+            ..d
+        }
+    }
+}
+
+/// The display: resolution and field of view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DisplaySpec {
+    /// Width and height, pixels (each in `1..=MAX_RESOLUTION_PX`).
+    pub resolution_px: [u32; 2],
+    /// Horizontal and vertical field of view, degrees (each in (0, 180)).
+    /// Computed from `physical` when the file gives a screen size.
+    pub fov_deg: [f64; 2],
+    /// The physical screen, when the file gave one.
+    pub physical: Option<PhysicalScreen>,
+    /// Luminance of peak white, cd/m² (default 200: an office monitor).
+    pub peak_luminance_cd_m2: f64,
+    /// Contrast ratio of the panel, peak over black (default 1000).
+    pub contrast_ratio: f64,
+    /// Ambient light on the screen, lux (default 250: an office).
+    pub ambient_lux: f64,
+    /// Refresh rate of the sample-and-hold panel, Hz (`refresh_hz`, in
+    /// `[1, 10000]`, default 60); `None` with `continuous_motion = true`
+    /// (motion as the velocity models measured it, for the papers'
+    /// experiments).
+    pub refresh_hz: Option<f64>,
+}
+
+impl DisplaySpec {
+    /// The display's photometry ([`acuity::Photometry::from_display`] of
+    /// its peak luminance, contrast ratio and ambient light).
+    pub fn photometry(&self) -> acuity::Result<acuity::Photometry> {
+        acuity::Photometry::from_display(
+            self.peak_luminance_cd_m2 as f32,
+            self.contrast_ratio as f32,
+            self.ambient_lux as f32,
+        )
+    }
+
+    /// Pixels per degree along the axis with the most (the display limit of
+    /// REFERENCE §2 is half this, in c/deg): `max(w / fov_h, h / fov_v)`.
+    pub fn pixels_per_deg(&self) -> f64 {
+        let [w, h] = self.resolution_px;
+        let [fh, fv] = self.fov_deg;
+        (f64::from(w) / fh).max(f64::from(h) / fv)
+    }
+
+    /// Width over height.
+    pub fn aspect(&self) -> f64 {
+        f64::from(self.resolution_px[0]) / f64::from(self.resolution_px[1])
+    }
+}
+
+/// A physical screen seen from a distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicalScreen {
+    /// Width and height of the screen, centimetres.
+    pub size_cm: [f64; 2],
+    /// Distance from the eye to the screen (on its centre line), centimetres.
+    pub distance_cm: f64,
+}
+
+impl PhysicalScreen {
+    /// Horizontal and vertical field of view, degrees: `2 atan(size / (2 distance))`.
+    pub fn fov_deg(&self) -> [f64; 2] {
+        self.size_cm
+            .map(|s| 2.0 * (0.5 * s / self.distance_cm).atan().to_degrees())
+    }
+}
+
+/// One object of a scene: its LOD chain and where it stands.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectSpec {
+    /// Unique name (used by gaze tracking and in reports).
+    pub name: String,
+    /// Where its LODs come from.
+    pub source: MeshSource,
+    /// Where its instances stand.
+    pub placement: PlacementSpec,
+}
+
+impl ObjectSpec {
+    /// All instances of the object, deterministic for a given seed.
+    pub fn placements(&self) -> Vec<Placement> {
+        self.placement.expand()
+    }
+}
+
+/// Procedural test objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProceduralKind {
+    /// A unit sphere (radius 1), a UV sphere tessellated at each LOD's
+    /// target (`acuity_preprocess::shapes::Shape::Sphere`).
+    Sphere,
+    /// A torus, major radius 1, minor radius 0.35, tessellated at each
+    /// LOD's target (`acuity_preprocess::shapes::Shape::Torus`).
+    Torus,
+    /// The offline pass's bumpy, colour-banded torus (major radius 1, minor
+    /// radius 0.4) with bumps at three scales, simplified to each LOD's
+    /// target: features at several spatial frequencies, so LOD transitions
+    /// remove visible detail (`acuity_preprocess::lods::procedural_object`).
+    Rock,
+}
+
+/// Where an object's LOD chain comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshSource {
+    /// Ready-made LODs, finest first (`lods = [...]`), paths resolved
+    /// against the scene file's folder.
+    Lods(Vec<PathBuf>),
+    /// LODs simplified from one mesh to target triangle counts
+    /// (`mesh` + `generate_triangles`, strictly decreasing). A first target
+    /// at or above the mesh's own count means "the mesh itself".
+    Generated {
+        /// The source mesh, resolved against the scene file's folder.
+        mesh: PathBuf,
+        /// Target triangles per LOD, finest first.
+        triangles: Vec<u32>,
+    },
+    /// A procedural object tessellated to target triangle counts (finest
+    /// first, strictly decreasing; met as closely as the tessellation allows).
+    Procedural {
+        /// The kind of object.
+        kind: ProceduralKind,
+        /// Target triangles per LOD, finest first.
+        triangles: Vec<u32>,
+    },
+}
+
+impl MeshSource {
+    /// Number of LODs in the chain (>= 1).
+    pub fn n_lods(&self) -> usize {
+        match self {
+            MeshSource::Lods(l) => l.len(),
+            MeshSource::Generated { triangles, .. } | MeshSource::Procedural { triangles, .. } => {
+                triangles.len()
+            }
+        }
+    }
+}
+
+/// The LOD policies a run can compare (REFERENCE §6–§7; issue 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Policy {
+    /// LOD 0 everywhere.
+    Full,
+    /// Screen-relative height thresholds ([`crate::screen_size`]).
+    ScreenSize,
+    /// Acuity, size only.
+    AcuitySize,
+    /// Acuity, size and eccentricity.
+    AcuitySizeEcc,
+    /// Acuity, size and velocity.
+    AcuitySizeVel,
+    /// Acuity, eccentricity and velocity, size off (the comparison of
+    /// Reddy 1998 §5.2 that shows size's share of the reduction).
+    AcuityEccVel,
+    /// Acuity, all components.
+    AcuityAll,
+    /// Acuity, all components, reactive fixed-frame-rate scheduler.
+    AcuityReactive,
+    /// Acuity, all components, predictive fixed-frame-rate scheduler.
+    AcuityPredictive,
+}
+
+impl Policy {
+    /// Every policy, in report order.
+    pub const ALL: [Policy; 9] = [
+        Policy::Full,
+        Policy::ScreenSize,
+        Policy::AcuitySize,
+        Policy::AcuitySizeEcc,
+        Policy::AcuitySizeVel,
+        Policy::AcuityEccVel,
+        Policy::AcuityAll,
+        Policy::AcuityReactive,
+        Policy::AcuityPredictive,
+    ];
+
+    /// Whether this is an acuity policy whose scale factor `s` is fixed
+    /// (not set by a scheduler), so it can be swept across `s`.
+    pub fn is_fixed_scale_acuity(self) -> bool {
+        matches!(
+            self,
+            Policy::AcuitySize
+                | Policy::AcuitySizeEcc
+                | Policy::AcuitySizeVel
+                | Policy::AcuityEccVel
+                | Policy::AcuityAll
+        )
+    }
+
+    /// The name used in scene files and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Policy::Full => "full",
+            Policy::ScreenSize => "screen_size",
+            Policy::AcuitySize => "acuity_size",
+            Policy::AcuitySizeEcc => "acuity_size_ecc",
+            Policy::AcuitySizeVel => "acuity_size_vel",
+            Policy::AcuityEccVel => "acuity_ecc_vel",
+            Policy::AcuityAll => "acuity_all",
+            Policy::AcuityReactive => "acuity_reactive",
+            Policy::AcuityPredictive => "acuity_predictive",
+        }
+    }
+}
+
+/// A policy by its scene-file name.
+pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
+    Policy::ALL
+        .into_iter()
+        .find(|p| p.name() == name.trim())
+        .with_context(|| {
+            let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
+            format!("unknown policy `{name}` (known: {})", names.join(", "))
+        })
+}
+
+/// Run settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSpec {
+    /// Target frame rate, Hz (from [`limits::MIN_TARGET_HZ`] to
+    /// [`limits::MAX_TARGET_HZ`]; default 60). Its period is the frame
+    /// budget of the fixed-frame-rate schedulers.
+    ///
+    /// [`limits::MIN_TARGET_HZ`]: crate::limits::MIN_TARGET_HZ
+    /// [`limits::MAX_TARGET_HZ`]: crate::limits::MAX_TARGET_HZ
+    pub target_hz: f64,
+    /// Policies to run, in file order, no repeats (default: all).
+    pub policies: Vec<Policy>,
+    /// Simulated time between frames, seconds (> 0). From `dt_s` (from
+    /// [`limits::MIN_DT_S`] to [`limits::MAX_DT_S`]), else `duration_s /
+    /// frames`, else `1 / target_hz`.
+    ///
+    /// [`limits::MIN_DT_S`]: crate::limits::MIN_DT_S
+    /// [`limits::MAX_DT_S`]: crate::limits::MAX_DT_S
+    pub frame_dt_s: f64,
+    /// Number of frames (>= 1). From `frames`, else
+    /// `ceil(duration_s / frame_dt_s)`.
+    pub frames: u32,
+    /// Compute FLIP against full detail on every n-th frame; 0 = never
+    /// (default 10).
+    pub flip_every_n_frames: u32,
+    /// Bias of the screen-size policy (> 0; default 1).
+    pub screen_size_bias: f64,
+    /// The screen-size policy's thresholds, relative screen heights
+    /// (strictly decreasing, > 0; an object with more LODs continues the
+    /// table by [`crate::screen_size::DEFAULT_THRESHOLD_RATIO`]); default
+    /// [`crate::screen_size::DEFAULT_THRESHOLDS_4`].
+    pub screen_size_thresholds: Vec<f64>,
+    /// Whether the screen-size policy weights each object's relative height
+    /// by the observer's eccentricity factor `M(E)` at the object's angle
+    /// from the gaze (a foveated screen-size baseline; default false).
+    pub screen_size_foveated: bool,
+    /// Acuity's global scale factor `s` in (0, 1] (default 1); the schedulers
+    /// start from it.
+    pub scale_factor: f64,
+}
+
+impl RunSpec {
+    /// Simulated time of frame `k`, seconds: `k * frame_dt_s`.
+    pub fn frame_time_s(&self, k: u32) -> f64 {
+        f64::from(k) * self.frame_dt_s
+    }
+
+    /// Frame period of the target rate, seconds.
+    pub fn budget_s(&self) -> f64 {
+        1.0 / self.target_hz
+    }
+}
+
+impl Scene {
+    /// The object named `name`.
+    pub fn object(&self, name: &str) -> Option<&ObjectSpec> {
+        self.objects.iter().find(|o| o.name == name)
+    }
+
+    /// The evaluated gaze (a tracked object resolved to its instance's
+    /// position).
+    pub fn gaze(&self) -> Gaze {
+        let tracked = match &self.gaze.mode {
+            GazeMode::Track { object, copy } => self
+                .object(object)
+                .and_then(|o| o.placement.instance(*copy as usize))
+                .map(|p| p.position_m),
+            _ => None,
+        };
+        Gaze::new(&self.gaze.mode, self.camera.clone(), tracked)
+    }
+
+    /// Total number of object instances.
+    pub fn instance_count(&self) -> usize {
+        self.objects.iter().map(|o| o.placement.count()).sum()
+    }
+}

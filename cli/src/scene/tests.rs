@@ -1,0 +1,82 @@
+//! Unit tests of the scene format: defaults, located errors, the physical
+//! screen's field of view.
+
+use super::locate::line_col;
+use super::*;
+
+const MINIMAL: &str = r#"
+[display]
+resolution = [640, 512]
+fov_deg = [43.6, 33.4]
+
+[[objects]]
+name = "ball"
+procedural = { kind = "sphere", triangles = [320, 80] }
+
+[camera]
+duration_s = 2.0
+forward_speed_m_per_s = 1.0
+"#;
+
+#[test]
+fn minimal_scene_parses_with_defaults() {
+    let s = Scene::parse(MINIMAL, "dir/min.toml").unwrap();
+    assert_eq!(s.display.resolution_px, [640, 512]);
+    assert_eq!(s.run.policies, Policy::ALL.to_vec());
+    assert_eq!(s.run.frames, 120);
+    assert!((s.run.frame_dt_s - 1.0 / 60.0).abs() < 1e-15);
+    assert_eq!(s.gaze, GazeSpec::default());
+    assert_eq!(s.instance_count(), 1);
+}
+
+#[test]
+fn physical_screen_gives_the_papers_field_of_view() {
+    let text = MINIMAL.replace(
+        "fov_deg = [43.6, 33.4]",
+        "screen_cm = [40, 30]\ndistance_cm = 50",
+    );
+    let s = Scene::parse(&text, "x.toml").unwrap();
+    assert!((s.display.fov_deg[0] - 43.6).abs() < 0.05);
+    assert!((s.display.fov_deg[1] - 33.4).abs() < 0.05);
+}
+
+#[test]
+fn line_col_counts_characters_and_clamps() {
+    assert_eq!(line_col("ab\ncé\nx", 6), (2, 3));
+    assert_eq!(line_col("ab\ncé\nx", 5), (2, 2)); // inside 'é': clamped back
+    assert_eq!(line_col("ab", 99), (1, 3));
+    assert_eq!(line_col("", 0), (1, 1));
+}
+
+#[test]
+fn validation_error_names_field_and_line() {
+    let text = MINIMAL.replace("[320, 80]", "[320, 400]");
+    let e = Scene::parse(&text, "min.toml").unwrap_err();
+    assert_eq!(e.field(), Some("objects[0].procedural.triangles[1]"));
+    assert_eq!(e.line(), Some(8));
+    assert!(e.to_string().starts_with("min.toml:8:"), "{e}");
+}
+
+#[test]
+fn type_error_names_field_and_line() {
+    let text = MINIMAL.replace("duration_s = 2.0", "duration_s = \"long\"");
+    let e = Scene::parse(&text, "min.toml").unwrap_err();
+    assert_eq!(e.field(), Some("camera.duration_s"), "{e}");
+    assert_eq!(e.line(), Some(11));
+}
+
+#[test]
+fn missing_field_is_named() {
+    let text = MINIMAL.replace("resolution = [640, 512]\n", "");
+    let e = Scene::parse(&text, "min.toml").unwrap_err();
+    assert_eq!(e.field(), Some("display.resolution"), "{e}");
+    assert_eq!(e.line(), Some(2), "{e}");
+}
+
+#[test]
+fn nan_is_refused_where_it_stands() {
+    let text = MINIMAL.replace("duration_s = 2.0", "duration_s = nan");
+    let e = Scene::parse(&text, "min.toml").unwrap_err();
+    assert_eq!(e.field(), Some("camera.duration_s"), "{e}");
+    assert_eq!(e.line(), Some(11));
+}
