@@ -1,7 +1,7 @@
 //! Frame dumps, and scoring them with FovVideoVDP.
 //!
 //! FLIP judges single frames at the fovea; a foveated, temporal metric
-//! needs whole sequences with the gaze (REFERENCE §9). A dump folder holds
+//! needs whole sequences with the gaze (FovVideoVDP, Mantiuk et al. 2021). A dump folder holds
 //! `display.json` and, per played sequence, `<policy>_<knob>/NNNN.png` (RGB,
 //! the frame as rendered) and `<policy>_<knob>/gaze.csv` (`frame,x_px,y_px`).
 //! [`score_fvvdp`] runs `scripts/fvvdp_score.py` (built into the binary) on

@@ -1,5 +1,4 @@
-//! `acuity experiment`: the reference experiments of Reddy 1998 §5
-//! (REFERENCE §7).
+//! `acuity experiment`: the reference experiments of Reddy 1998 §5.
 //!
 //! `speedup`: N copies of the test object at seeded random positions
 //! (`scenes/reddy1998.toml` by default), N in {10, 20, 50, 100, 200, 500,

@@ -21,7 +21,8 @@ use glam::{DVec2, DVec3};
 use crate::path::CameraPath;
 
 /// How the viewer's gaze is tracked, which sets the eccentricity margin
-/// (REFERENCE §3).
+/// subtracted for the tracker's error (none, 15 deg for the head, 1 deg
+/// for the eyes by default).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Tracker {

@@ -1,4 +1,4 @@
-//! The LOD policies `acuity run` compares (REFERENCE §6–§7, issue 4), each
+//! The LOD policies `acuity run` compares, each
 //! over the same camera path: full detail, screen-size thresholds, acuity
 //! with a set of model components, and acuity under the reactive or the
 //! predictive fixed-frame-rate scheduler.

@@ -1,5 +1,5 @@
 //! `acuity preprocess`: the offline pass on a scene file or one OBJ mesh,
-//! writing one runtime profile per object (REFERENCE §5; issue 3).
+//! writing one runtime profile per object.
 //!
 //! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
 //!   objects are analysed from their files, `mesh` + `generate_triangles`

@@ -220,8 +220,8 @@ impl DisplaySpec {
         )
     }
 
-    /// Pixels per degree along the axis with the most (the display limit of
-    /// REFERENCE §2 is half this, in c/deg): `max(w / fov_h, h / fov_v)`.
+    /// Pixels per degree along the axis with the most (the display's
+    /// resolution limit `xi` is half this, in c/deg): `max(w / fov_h, h / fov_v)`.
     pub fn pixels_per_deg(&self) -> f64 {
         let [w, h] = self.resolution_px;
         let [fh, fv] = self.fov_deg;
@@ -323,7 +323,7 @@ impl MeshSource {
     }
 }
 
-/// The LOD policies a run can compare (REFERENCE §6–§7; issue 4).
+/// The LOD policies a run can compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Policy {
