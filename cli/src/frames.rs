@@ -232,6 +232,7 @@ impl World {
             .map(|o| object_source(&o.name, &o.source))
             .collect::<Vec<_>>();
         check_distinct_cache_paths(&cache_dir, &sources).map_err(anyhow::Error::msg)?;
+        crate::limits::check_generated_meshes(&sources).map_err(anyhow::Error::msg)?;
         let started = Instant::now();
         // Every object's LODs first, so the scene's size at full detail is
         // checked before anything is analysed.

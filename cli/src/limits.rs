@@ -18,7 +18,8 @@
 //! Before a run or an experiment plays its frames, the memory it will keep
 //! (each frame's record per policy, the full-detail images FLIP compares
 //! against, the kept worst frames: [`play_memory_bytes`]) is estimated and
-//! the work refused when it exceeds the memory available.
+//! the work refused when it exceeds the memory available; likewise the
+//! procedural LODs, before any is tessellated ([`check_generated_meshes`]).
 //!
 //! The full-detail triangle count is estimated from the scene file (the
 //! first target of `procedural` and `generate_triangles` LODs) when it is
@@ -139,6 +140,38 @@ pub fn play_memory_bytes(
     records.saturating_add(references).saturating_add(worst)
 }
 
+/// Memory a tessellated triangle takes while LODs are made, bytes: a vertex
+/// position, normal and colour per corner and three indices, with the
+/// simplifier's working copies.
+pub const MESH_BYTES_PER_TRIANGLE: u64 = 120;
+
+/// Refuses objects whose generated LODs (procedural shapes, tessellated in
+/// memory at every triangle target) would not fit in the memory available:
+/// [`MESH_BYTES_PER_TRIANGLE`] times the targets' sum over every procedural
+/// object. LODs read from files or simplified from one are bounded by
+/// their files.
+pub fn check_generated_meshes<'a>(
+    sources: impl IntoIterator<Item = &'a acuity_preprocess::ObjectSource>,
+) -> Result<(), String> {
+    use acuity_preprocess::ObjectSource;
+    let triangles: u64 = sources
+        .into_iter()
+        .map(|s| match s {
+            ObjectSource::Procedural {
+                triangle_targets, ..
+            }
+            | ObjectSource::Shape {
+                triangle_targets, ..
+            } => triangle_targets.iter().map(|&t| u64::from(t)).sum(),
+            _ => 0,
+        })
+        .sum();
+    check_memory(
+        triangles.saturating_mul(MESH_BYTES_PER_TRIANGLE),
+        &format!("tessellating {triangles} procedural triangles"),
+    )
+}
+
 /// Refuses work that needs more than the memory the system has available
 /// now (`MemAvailable` of `/proc/meminfo`; where that cannot be read,
 /// nothing is refused). `what` describes the work in the message.
@@ -223,6 +256,29 @@ mod tests {
             );
         }
         assert!(check_memory(1, "a small run").is_ok());
+    }
+
+    #[test]
+    fn generated_meshes_beyond_memory_are_refused() {
+        use acuity_preprocess::ObjectSource;
+        use acuity_preprocess::shapes::Shape;
+        let object = |targets: Vec<u32>| ObjectSource::Shape {
+            name: "ball".into(),
+            shape: Shape::Sphere,
+            triangle_targets: targets,
+        };
+        assert!(check_generated_meshes(&[object(vec![320, 80])]).is_ok());
+        // 2,000 objects of 10M + 5M triangles: 3.6 TB.
+        let huge: Vec<_> = (0..2000)
+            .map(|_| object(vec![10_000_000, 5_000_000]))
+            .collect();
+        if cfg!(target_os = "linux") {
+            let e = check_generated_meshes(&huge).unwrap_err();
+            assert!(
+                e.starts_with("tessellating 30000000000 procedural triangles needs about"),
+                "{e}"
+            );
+        }
     }
 
     #[test]

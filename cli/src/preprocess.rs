@@ -291,6 +291,8 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
     let out_dir = args.out.clone().unwrap_or(default_out);
     profiles::check_distinct_cache_paths(&out_dir, jobs.iter().map(|j| &j.source))
         .map_err(PreprocessError::Usage)?;
+    crate::limits::check_generated_meshes(jobs.iter().map(|j| &j.source))
+        .map_err(PreprocessError::Usage)?;
     let rows = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
