@@ -391,6 +391,25 @@ pub fn analyse_many(
         .collect()
 }
 
+/// `mesh` moved and scaled (in f64) so that the sphere `centre`, `radius`
+/// becomes the unit sphere at the origin; normals the loader computed are
+/// computed again at that size (at a tiny size their cross products
+/// underflow).
+fn unit_sized(mesh: &Mesh, centre: [f32; 3], radius: f32) -> Mesh {
+    let c = glam::Vec3::from(centre).as_dvec3();
+    let inv_r = 1.0 / f64::from(radius);
+    let mut unit = mesh.clone();
+    for p in &mut unit.positions {
+        *p = ((glam::Vec3::from(*p).as_dvec3() - c) * inv_r)
+            .as_vec3()
+            .into();
+    }
+    if unit.normals_computed {
+        unit.compute_smooth_normals();
+    }
+    unit
+}
+
 /// Analyses an LOD chain that is already in memory (no input hashes).
 pub fn analyse_lods(
     renderer: &Renderer,
@@ -433,9 +452,11 @@ pub fn analyse_lods(
     };
 
     let diameters = settings.diameters_px();
+    // The analysis is in cycles per object diameter, so it is drawn at unit
+    // size: a mesh of 1e-30 or 1e30 model units renders like one of 1.
     let ids: Vec<MeshId> = lods
         .iter()
-        .map(|m| renderer.upload_mesh(m))
+        .map(|m| renderer.upload_mesh(&unit_sized(m, centre, radius)))
         .collect::<Result<_, _>>()?;
     let result = render_and_measure(
         renderer,
@@ -443,7 +464,7 @@ pub fn analyse_lods(
         &ids,
         &viewpoints,
         &diameters,
-        (centre, radius),
+        ([0.0; 3], 1.0),
         settings,
         run,
         inspect.as_deref(),

@@ -111,6 +111,54 @@ fn two_runs_give_identical_results() {
 }
 
 #[test]
+fn a_mesh_of_any_scale_is_analysed_like_one_of_unit_size() {
+    use acuity_preprocess::lods::{procedural_object, simplify};
+    use acuity_preprocess::pipeline::analyse_lods;
+    let r = renderer();
+    let m = procedural_object(ProceduralParams {
+        triangles: 800,
+        seed: 2,
+    });
+    let chain = [m.clone(), simplify(&m, 200)];
+    let settings = AnalysisSettings {
+        resolution_px: 64,
+        viewpoint_level: 0,
+        ..Default::default()
+    };
+    let lowest = |scale: f32| {
+        let scaled: Vec<_> = chain
+            .iter()
+            .map(|lod| {
+                let mut lod = lod.clone();
+                for p in &mut lod.positions {
+                    *p = p.map(|c| c * scale);
+                }
+                lod
+            })
+            .collect();
+        let a = analyse_lods(&r, "x", &scaled, &settings, &RunOptions::default()).unwrap();
+        let r = a.bounding_sphere.1;
+        (
+            a.transitions
+                .iter()
+                .map(|t| t.lowest_cdiam())
+                .collect::<Vec<_>>(),
+            r,
+        )
+    };
+    let (unit, r1) = lowest(1.0);
+    assert!(unit.iter().any(Option::is_some), "{unit:?}");
+    for scale in [1e-30, 1e30] {
+        let (scaled, r) = lowest(scale);
+        assert!(
+            (r / (r1 * scale) - 1.0).abs() < 1e-5,
+            "radius {r} at {scale}"
+        );
+        assert_eq!(scaled, unit, "at scale {scale}");
+    }
+}
+
+#[test]
 fn identical_lods_have_no_unique_features() {
     use acuity_preprocess::lods::{procedural_object, simplify};
     use acuity_preprocess::pipeline::analyse_lods;
