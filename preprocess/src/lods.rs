@@ -71,22 +71,28 @@ pub fn generate_lods(
     source: &Mesh,
     triangle_targets: &[u32],
 ) -> Result<Vec<Mesh>, Error> {
-    if let Some(w) = triangle_targets.windows(2).position(|w| w[1] >= w[0]) {
-        return Err(Error::Settings {
-            field: "triangle_targets",
-            message: format!(
-                "targets must strictly decrease; {} is followed by {}",
-                triangle_targets[w],
-                triangle_targets[w + 1]
-            ),
-        });
-    }
+    check_targets(triangle_targets)?;
     let lods: Vec<Mesh> = triangle_targets
         .iter()
         .map(|&t| simplify(source, t as usize))
         .collect();
     check_chain(object, &lods)?;
     Ok(lods)
+}
+
+/// Triangle targets of an LOD chain must strictly decrease.
+pub fn check_targets(triangle_targets: &[u32]) -> Result<(), Error> {
+    match triangle_targets.windows(2).position(|w| w[1] >= w[0]) {
+        Some(w) => Err(Error::Settings {
+            field: "triangle_targets",
+            message: format!(
+                "targets must strictly decrease; {} is followed by {}",
+                triangle_targets[w],
+                triangle_targets[w + 1]
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Simplifies `mesh` to at most about `target_triangles` (see the module

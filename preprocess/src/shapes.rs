@@ -117,16 +117,7 @@ impl Shape {
     /// An LOD chain: the shape tessellated at each target (finest first,
     /// strictly decreasing), checked ([`lods::check_chain`]).
     pub fn lods(self, object: &str, triangle_targets: &[u32]) -> Result<Vec<Mesh>, Error> {
-        if let Some(w) = triangle_targets.windows(2).position(|w| w[1] >= w[0]) {
-            return Err(Error::Settings {
-                field: "triangle_targets",
-                message: format!(
-                    "targets must strictly decrease; {} is followed by {}",
-                    triangle_targets[w],
-                    triangle_targets[w + 1]
-                ),
-            });
-        }
+        lods::check_targets(triangle_targets)?;
         let lods: Vec<Mesh> = triangle_targets.iter().map(|&t| self.mesh(t)).collect();
         lods::check_chain(object, &lods)?;
         Ok(lods)
