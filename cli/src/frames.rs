@@ -83,11 +83,11 @@ pub struct ProfileArgs {
     pub cache_dir: Option<PathBuf>,
     /// Image size of profiles that must be made, pixels (16..=8192)
     /// [default: the scene's `[profiles]`, else 512].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
     pub profile_resolution: Option<u32>,
     /// Smallest rung of the size ladder of profiles that must be made,
     /// pixels [default: the scene's `[profiles]`, else 16].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=8192))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
     pub profile_min_diameter: Option<u32>,
     /// MSAA samples of the analysis and of the rendered frames (1: none)
     /// [default: the scene's `[profiles]`, else 4].
@@ -95,7 +95,7 @@ pub struct ProfileArgs {
     pub msaa: Option<u32>,
     /// View-sphere level of profiles that must be made (0: 6 viewpoints,
     /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64))]
     pub profile_viewpoints: Option<u32>,
     /// Feature-size statistic of profiles that must be made: `thickness`
     /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or

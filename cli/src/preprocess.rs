@@ -69,19 +69,19 @@ pub struct PreprocessArgs {
     pub jobs: Option<u32>,
     /// Square rendering size in pixels (16..=8192) [default: a scene's
     /// `[profiles]`, else 512].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
     pub resolution: Option<u32>,
     /// Smallest rung of the size ladder, pixels: rungs halve from
     /// `--resolution` down to it [default: the scene's `[profiles]`, else
     /// 16].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=8192))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
     pub min_diameter: Option<u32>,
     /// MSAA samples (1: none) [default: the scene's `[profiles]`, else 4].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub msaa: Option<u32>,
     /// View-sphere subdivision level: 0 -> 6 viewpoints, 1 -> 18, 2 -> 66,
     /// 3 -> 258, ... (0..=6) [default: a scene's `[profiles]`, else 1].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=6))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64))]
     pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
     /// [default: a scene's `[profiles]`, else 2.3].

@@ -108,6 +108,15 @@ impl Default for AnalysisSettings {
 }
 
 impl AnalysisSettings {
+    /// Smallest `resolution_px`, pixels.
+    pub const MIN_RESOLUTION_PX: u32 = 16;
+    /// Largest `resolution_px`, pixels.
+    pub const MAX_RESOLUTION_PX: u32 = 8192;
+    /// Smallest `min_diameter_px`, pixels (at most `resolution_px`).
+    pub const MIN_DIAMETER_PX: u32 = 4;
+    /// Largest `viewpoint_level` ([`views::MAX_VIEWPOINT_LEVEL`]).
+    pub const MAX_VIEWPOINT_LEVEL: u32 = views::MAX_VIEWPOINT_LEVEL;
+
     /// The rungs of the size ladder, ascending: `resolution_px` halved
     /// (rounding down) while the result is at least `min_diameter_px`.
     pub fn diameters_px(&self) -> Vec<u32> {
@@ -121,18 +130,25 @@ impl AnalysisSettings {
     /// Checks every field's domain; the error names the field.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |field, message: String| Err(Error::Settings { field, message });
-        if !(16..=8192).contains(&self.resolution_px) {
+        if !(Self::MIN_RESOLUTION_PX..=Self::MAX_RESOLUTION_PX).contains(&self.resolution_px) {
             return bad(
                 "resolution_px",
-                format!("{} outside 16..=8192", self.resolution_px),
+                format!(
+                    "{} outside {}..={}",
+                    self.resolution_px,
+                    Self::MIN_RESOLUTION_PX,
+                    Self::MAX_RESOLUTION_PX
+                ),
             );
         }
-        if !(4..=self.resolution_px).contains(&self.min_diameter_px) {
+        if !(Self::MIN_DIAMETER_PX..=self.resolution_px).contains(&self.min_diameter_px) {
             return bad(
                 "min_diameter_px",
                 format!(
-                    "{} outside 4..={} (resolution_px)",
-                    self.min_diameter_px, self.resolution_px
+                    "{} outside {}..={} (resolution_px)",
+                    self.min_diameter_px,
+                    Self::MIN_DIAMETER_PX,
+                    self.resolution_px
                 ),
             );
         }
