@@ -17,7 +17,7 @@ use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
 
 use crate::limits::check_scene_triangles;
 use crate::placement::Placement;
-use crate::preprocess::object_source;
+use crate::profiles::object_source;
 use crate::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile};
 use crate::scene::{ProfileSpec, Scene};
 use acuity::{Camera, Display, Gaze, Profile, Tracker};

@@ -4,7 +4,7 @@
 //! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
 //!   objects are analysed from their files, `mesh` + `generate_triangles`
 //!   objects from LODs simplified from the mesh, and `procedural` objects
-//!   from the offline pass's generators (see [`object_source`]). Or one
+//!   from the offline pass's generators (see [`crate::profiles::object_source`]). Or one
 //!   OBJ file (`.obj`): its LODs are generated at
 //!   `--triangles` (default the paper's 3928/834/254/76), and the object is
 //!   named after the file stem.
@@ -36,22 +36,16 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use acuity_preprocess::lods::{self, ProceduralParams};
+use acuity_preprocess::lods;
 use acuity_preprocess::pipeline::{AnalysisSettings, ObjectSource, Progress, RunOptions};
-use acuity_preprocess::shapes::Shape;
 use acuity_preprocess::views;
 use acuity_render::{Renderer, RendererOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::profiles;
-use crate::scene::{MeshSource, ProceduralKind, ProfileSpec, Scene};
+use crate::profiles::{self, object_source};
+use crate::scene::{ProfileSpec, Scene};
 use acuity::rows::{FieldCsfs, transition_critical_cdiam};
 use acuity::{Observer, Photometry, Profile, csf::Csf};
-
-/// Seed of the procedural generator for scene objects of kind `rock` (the
-/// scene format has no seed for the shape; this one is fixed so profiles
-/// are reproducible).
-pub const PROCEDURAL_SEED: u32 = 1;
 
 /// Arguments of `acuity preprocess`.
 #[derive(Debug, Clone, clap::Args)]
@@ -147,43 +141,6 @@ pub struct Job {
     pub name: String,
     /// Its LOD source.
     pub source: ObjectSource,
-}
-
-/// The offline pass's source for a scene object: files and generated LODs
-/// map one to one; `rock` is the offline pass's bumpy, colour-banded torus
-/// with bumps at three scales ([`lods::procedural_object`], seed
-/// [`PROCEDURAL_SEED`]) simplified to each target, `sphere` and `torus`
-/// are [`Shape`]s tessellated at each target.
-pub fn object_source(name: &str, source: &MeshSource) -> ObjectSource {
-    match source {
-        MeshSource::Lods(paths) => ObjectSource::Files {
-            name: name.into(),
-            lod_paths: paths.clone(),
-        },
-        MeshSource::Generated { mesh, triangles } => ObjectSource::Generated {
-            name: name.into(),
-            path: mesh.clone(),
-            triangle_targets: triangles.clone(),
-        },
-        MeshSource::Procedural { kind, triangles } => match kind {
-            ProceduralKind::Rock => ObjectSource::Procedural {
-                name: name.into(),
-                params: ProceduralParams {
-                    triangles: triangles.first().copied().unwrap_or(0),
-                    seed: PROCEDURAL_SEED,
-                },
-                triangle_targets: triangles.clone(),
-            },
-            ProceduralKind::Sphere | ProceduralKind::Torus => ObjectSource::Shape {
-                name: name.into(),
-                shape: match kind {
-                    ProceduralKind::Sphere => Shape::Sphere,
-                    _ => Shape::Torus,
-                },
-                triangle_targets: triangles.clone(),
-            },
-        },
-    }
 }
 
 /// The objects named by `args.path`, the default profile folder, and a

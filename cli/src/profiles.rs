@@ -3,12 +3,16 @@
 
 use std::path::{Path, PathBuf};
 
+use acuity_preprocess::lods::ProceduralParams;
 use acuity_preprocess::pipeline::{
     self, AnalysisSettings, ObjectAnalysis, ObjectSource, RunOptions,
 };
+use acuity_preprocess::shapes::Shape;
 use acuity_render::Renderer;
 
 use acuity::profile::{Feature, InputHash, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
+
+use crate::scene::{MeshSource, ProceduralKind};
 
 /// Where a profile came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -214,6 +218,48 @@ pub fn ensure_profile(
     }
     let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
     Ok((profile, CacheOutcome::Analysed))
+}
+
+/// Seed of the procedural generator for scene objects of kind `rock` (the
+/// scene format has no seed for the shape; this one is fixed so profiles
+/// are reproducible).
+pub const PROCEDURAL_SEED: u32 = 1;
+
+/// The offline pass's source for a scene object: files and generated LODs
+/// map one to one; `rock` is the offline pass's bumpy, colour-banded torus
+/// with bumps at three scales ([`acuity_preprocess::lods::procedural_object`], seed
+/// [`PROCEDURAL_SEED`]) simplified to each target, `sphere` and `torus`
+/// are [`Shape`]s tessellated at each target.
+pub fn object_source(name: &str, source: &MeshSource) -> ObjectSource {
+    match source {
+        MeshSource::Lods(paths) => ObjectSource::Files {
+            name: name.into(),
+            lod_paths: paths.clone(),
+        },
+        MeshSource::Generated { mesh, triangles } => ObjectSource::Generated {
+            name: name.into(),
+            path: mesh.clone(),
+            triangle_targets: triangles.clone(),
+        },
+        MeshSource::Procedural { kind, triangles } => match kind {
+            ProceduralKind::Rock => ObjectSource::Procedural {
+                name: name.into(),
+                params: ProceduralParams {
+                    triangles: triangles.first().copied().unwrap_or(0),
+                    seed: PROCEDURAL_SEED,
+                },
+                triangle_targets: triangles.clone(),
+            },
+            ProceduralKind::Sphere | ProceduralKind::Torus => ObjectSource::Shape {
+                name: name.into(),
+                shape: match kind {
+                    ProceduralKind::Sphere => Shape::Sphere,
+                    _ => Shape::Torus,
+                },
+                triangle_targets: triangles.clone(),
+            },
+        },
+    }
 }
 
 #[cfg(test)]
