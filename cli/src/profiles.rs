@@ -83,17 +83,7 @@ pub fn profile_from_analysis(analysis: &ObjectAnalysis, settings: &AnalysisSetti
 
 /// The cache file of an object: `<cache_dir>/<name>.acp` (binary profile).
 pub fn cache_path(cache_dir: &Path, object: &ObjectSource) -> PathBuf {
-    let safe: String = object
-        .name()
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let safe = pipeline::file_safe_name(object.name());
     cache_dir.join(format!("{safe}.acp"))
 }
 

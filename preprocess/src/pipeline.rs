@@ -702,9 +702,11 @@ fn write_png(path: &Path, res: u32, rgba: &[u8]) -> Result<(), Error> {
     })
 }
 
-fn sanitize(name: &str) -> String {
-    let s: String = name
-        .chars()
+/// `name` with every character but ASCII letters, digits, `-` and `_`
+/// replaced by `_`: a file name on every platform (profiles and inspection
+/// folders are named by it; two names that give the same one collide).
+pub fn file_safe_name(name: &str) -> String {
+    name.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
                 c
@@ -712,7 +714,11 @@ fn sanitize(name: &str) -> String {
                 '_'
             }
         })
-        .collect();
+        .collect()
+}
+
+fn sanitize(name: &str) -> String {
+    let s = file_safe_name(name);
     if s.is_empty() { "_".into() } else { s }
 }
 
