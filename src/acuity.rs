@@ -24,8 +24,16 @@
 pub const MAX_ACUITY_CPD: f32 = 60.0;
 /// Acuity at very high retinal velocity, c/deg (`G(v)` for fast motion).
 pub const MIN_ACUITY_CPD: f32 = 0.1;
-const G_INTERCEPT: f32 = 57.69;
-const G_SLOPE: f32 = 27.78;
+/// `G(v)`'s value at 1 deg/s, c/deg (Reddy 2001, eq. 4).
+const G_INTERCEPT_CPD: f32 = 57.69;
+/// `G(v)`'s fall per decade of velocity, c/deg (Reddy 2001, eq. 4).
+const G_SLOPE_CPD_PER_DECADE: f32 = 27.78;
+/// `M(E) = M_NUMERATOR / (M_SLOPE_PER_DEG E + 1)^2` (Reddy 2001, eq. 4).
+const M_NUMERATOR: f32 = 7.49;
+/// See [`M_NUMERATOR`], 1/deg.
+const M_SLOPE_PER_DEG: f32 = 0.3;
+/// The velocity offset of Kelly's (1979) CSF peak `45.9 / (v + 2)`, deg/s.
+const KELLY_OFFSET_DEG_PER_S: f32 = 2.0;
 /// Velocity below which acuity is [`MAX_ACUITY_CPD`], deg/s: the exact
 /// solution of `57.69 - 27.78 log10(v) = 60` (the paper: 0.825).
 pub const VELOCITY_FLOOR_DEG_PER_S: f32 = 0.825_746_3;
@@ -46,7 +54,33 @@ pub const ECCENTRICITY_CEILING_DEG: f32 = 80.0;
 pub fn velocity_acuity_cpd(velocity_deg_per_s: f32) -> f32 {
     let v = sanitize_nonnegative(velocity_deg_per_s)
         .clamp(VELOCITY_FLOOR_DEG_PER_S, VELOCITY_CEILING_DEG_PER_S);
-    (G_INTERCEPT - G_SLOPE * v.log10()).clamp(MIN_ACUITY_CPD, MAX_ACUITY_CPD)
+    reddy_velocity_piece_cpd(v.log10()).clamp(MIN_ACUITY_CPD, MAX_ACUITY_CPD)
+}
+
+/// The middle piece of Reddy's `G(v)`, `57.69 - 27.78 log10(v)` c/deg,
+/// from `log10(v)`; the caller clamps. Shared with the selection loop,
+/// which takes its own `log10`.
+#[inline(always)]
+pub(crate) fn reddy_velocity_piece_cpd(log10_velocity: f32) -> f32 {
+    G_INTERCEPT_CPD - G_SLOPE_CPD_PER_DECADE * log10_velocity
+}
+
+/// Reddy's `M(E) = min(7.49 / (0.3 E + 1)^2, 1)` for `E` already clamped
+/// into `[ECCENTRICITY_FLOOR_DEG, ECCENTRICITY_CEILING_DEG]`; straight-line
+/// code, so the selection loop vectorises over it.
+#[inline(always)]
+pub(crate) fn reddy_eccentricity_factor_unchecked(eccentricity_deg: f32) -> f32 {
+    let d = M_SLOPE_PER_DEG * eccentricity_deg + 1.0;
+    crate::fastmath::min(M_NUMERATOR / (d * d), 1.0)
+}
+
+/// Kelly's `G_K(v)` for `v` already at least the drift; straight-line code
+/// shared with the selection loop.
+#[inline(always)]
+pub(crate) fn kelly_velocity_acuity_unchecked(velocity_deg_per_s: f32) -> f32 {
+    MAX_ACUITY_CPD
+        * ((DRIFT_VELOCITY_DEG_PER_S + KELLY_OFFSET_DEG_PER_S)
+            / (velocity_deg_per_s + KELLY_OFFSET_DEG_PER_S))
 }
 
 /// `M(E)`: the fraction of foveal acuity left at an eccentricity in deg
@@ -59,8 +93,7 @@ pub fn velocity_acuity_cpd(velocity_deg_per_s: f32) -> f32 {
 pub fn eccentricity_factor(eccentricity_deg: f32) -> f32 {
     let e = sanitize_nonnegative(eccentricity_deg)
         .clamp(ECCENTRICITY_FLOOR_DEG, ECCENTRICITY_CEILING_DEG);
-    let d = 0.3 * e + 1.0;
-    (7.49 / (d * d)).min(1.0)
+    reddy_eccentricity_factor_unchecked(e)
 }
 
 /// The model in `models` whose `name` is `text`, or an error listing the
@@ -196,7 +229,7 @@ pub const DRIFT_VELOCITY_DEG_PER_S: f32 = 0.15;
 #[inline]
 pub fn kelly_velocity_acuity_cpd(velocity_deg_per_s: f32) -> f32 {
     let v = sanitize_nonnegative(velocity_deg_per_s).max(DRIFT_VELOCITY_DEG_PER_S);
-    MAX_ACUITY_CPD * ((DRIFT_VELOCITY_DEG_PER_S + 2.0) / (v + 2.0))
+    kelly_velocity_acuity_unchecked(v)
 }
 
 /// How acuity falls with retinal velocity: the factor `G(v)` of
@@ -277,7 +310,7 @@ pub fn velocity_for_acuity_deg_per_s(acuity_cpd: f32) -> f32 {
     } else if acuity_cpd < MIN_ACUITY_CPD {
         f32::INFINITY
     } else {
-        10f32.powf((G_INTERCEPT - acuity_cpd) / G_SLOPE)
+        10f32.powf((G_INTERCEPT_CPD - acuity_cpd) / G_SLOPE_CPD_PER_DECADE)
     }
 }
 
@@ -291,7 +324,7 @@ pub fn eccentricity_for_factor_deg(factor: f32) -> f32 {
     } else if factor < eccentricity_factor(ECCENTRICITY_CEILING_DEG) {
         f32::INFINITY
     } else {
-        ((7.49 / factor).sqrt() - 1.0) / 0.3
+        ((M_NUMERATOR / factor).sqrt() - 1.0) / M_SLOPE_PER_DEG
     }
 }
 
@@ -342,7 +375,7 @@ mod tests {
 
     #[test]
     fn breakpoints_solve_the_published_pieces() {
-        let g = |v: f32| G_INTERCEPT - G_SLOPE * v.log10();
+        let g = |v: f32| 57.69 - 27.78 * v.log10();
         assert!((g(VELOCITY_FLOOR_DEG_PER_S) - 60.0).abs() < 1e-4);
         assert!((g(VELOCITY_CEILING_DEG_PER_S) - 0.1).abs() < 1e-4);
         let m = |e: f32| 7.49 / (0.3 * e + 1.0).powi(2);

@@ -137,9 +137,11 @@ impl Gaze {
     }
 
     /// Looking at a point of the display given as angles from its centre
-    /// in deg (`x_deg` to the right, `y_deg` up).
+    /// in deg (`x_deg` to the right, `y_deg` up; each clamped into `[-89,
+    /// 89]`, non-finite as 0: [`crate::display::screen_angles_to_direction`]).
     pub fn at_screen_angles(x_deg: f32, y_deg: f32, tracker: Tracker) -> Self {
-        let direction_camera = Vec3::new(x_deg.to_radians().tan(), y_deg.to_radians().tan(), -1.0);
+        let angles_deg = glam::DVec2::new(f64::from(x_deg), f64::from(y_deg));
+        let direction_camera = crate::display::screen_angles_to_direction(angles_deg).as_vec3();
         Self {
             direction_camera,
             tracker,

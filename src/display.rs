@@ -1,6 +1,8 @@
 //! The display: resolution and field of view, the highest spatial
 //! frequency it can show, and its light output.
 
+use glam::{DVec2, DVec3};
+
 use crate::csf::Photometry;
 use crate::error::{Error, Result};
 
@@ -123,7 +125,7 @@ impl Display {
                     format!("screen size {size} cm is not a positive finite length"),
                 ));
             }
-            fov_deg[i] = 2.0 * (0.5 * size / distance_cm).atan().to_degrees();
+            fov_deg[i] = physical_fov_deg(f64::from(size), f64::from(distance_cm)) as f32;
         }
         Self::new(resolution_px, fov_deg)
     }
@@ -157,6 +159,71 @@ impl Display {
     pub fn filling_angular_size_deg(&self) -> f32 {
         self.fov_deg[0].max(self.fov_deg[1])
     }
+}
+
+/// The field of view in deg that a planar screen `size` across subtends
+/// from `distance` on its centre line: `2 atan(size / (2 distance))`. Any
+/// one length unit for both; meaningful for finite, positive lengths (the
+/// callers check them).
+pub fn physical_fov_deg(size: f64, distance: f64) -> f64 {
+    2.0 * (0.5 * size / distance).atan().to_degrees()
+}
+
+/// The perspective scale `1 / tan(fov / 2)` of an axis with a field of
+/// view of `fov_deg` (0 to 180 deg, exclusive): how far in image halves a
+/// direction of slope 1 off the view axis lands from the centre.
+pub fn projection_scale(fov_deg: f64) -> f64 {
+    1.0 / half_tan(fov_deg)
+}
+
+/// `tan(fov / 2)`: half the extent of the image plane one unit ahead.
+fn half_tan(fov_deg: f64) -> f64 {
+    (0.5 * fov_deg).to_radians().tan()
+}
+
+/// Largest angle from the view axis, deg, that a direction through a
+/// point of a planar display can make: 89 deg keeps `tan` finite.
+pub const MAX_SCREEN_ANGLE_DEG: f64 = 89.0;
+
+/// The camera-space unit direction (-Z forward, +X right, +Y up) through a
+/// point of a planar display given as angles from its centre in deg
+/// (`x` right, `y` up), each measured in its own axis's plane, so the
+/// point sits at `(tan x, tan y)` on the plane one unit ahead. Angles are
+/// clamped into `[-89, 89]` deg; non-finite ones count as 0.
+pub fn screen_angles_to_direction(angles_deg: DVec2) -> DVec3 {
+    let slope = |a: f64| {
+        if a.is_finite() {
+            a.clamp(-MAX_SCREEN_ANGLE_DEG, MAX_SCREEN_ANGLE_DEG)
+                .to_radians()
+                .tan()
+        } else {
+            0.0
+        }
+    };
+    DVec3::new(slope(angles_deg.x), slope(angles_deg.y), -1.0).normalize()
+}
+
+/// Where a camera-space direction (-Z forward) lands in an image of
+/// `resolution_px` covering `fov_deg` under a perspective projection, in
+/// pixels: origin at the top-left corner, x right, y down, the view axis at
+/// `(w/2, h/2)`. Directions off screen give coordinates outside the image;
+/// one more than 89 deg off the view axis (or behind) is taken at 89 deg; a
+/// zero or non-finite direction gives the centre.
+pub fn direction_to_pixel(
+    direction_camera: DVec3,
+    resolution_px: [u32; 2],
+    fov_deg: [f64; 2],
+) -> [f64; 2] {
+    let [w, h] = resolution_px.map(f64::from);
+    let lateral = direction_camera.x.hypot(direction_camera.y);
+    let min_forward = lateral * (90.0 - MAX_SCREEN_ANGLE_DEG).to_radians().tan();
+    let forward = (-direction_camera.z).max(min_forward);
+    if !(forward.is_finite() && forward > 0.0) {
+        return [0.5 * w, 0.5 * h];
+    }
+    let tx = direction_camera.x / forward / half_tan(fov_deg[0]);
+    let ty = direction_camera.y / forward / half_tan(fov_deg[1]);
+    [0.5 * w * (1.0 + tx), 0.5 * h * (1.0 - ty)]
 }
 
 #[cfg(test)]

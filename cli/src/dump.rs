@@ -52,20 +52,9 @@ pub fn sequence_name(policy: Policy, knob: f64) -> String {
 
 /// The gaze point in pixels of an image of `resolution_px` covering
 /// `fov_deg` (the player's projection, [`crate::frames::World::view_proj`]):
-/// origin at the image's top-left corner, x right, y down, the display
-/// centre at `(w/2, h/2)`. `gaze_camera` is a camera-space direction (-Z
-/// forward); points off screen give coordinates outside the image, and a
-/// gaze more than 89° off the view axis (or behind) is taken at 89°.
+/// [`acuity::display::direction_to_pixel`] of the camera-space gaze.
 pub fn gaze_pixel(gaze_camera: DVec3, resolution_px: [u32; 2], fov_deg: [f64; 2]) -> [f64; 2] {
-    let [w, h] = resolution_px.map(f64::from);
-    let lateral = gaze_camera.x.hypot(gaze_camera.y);
-    let forward = (-gaze_camera.z).max(lateral * 1f64.to_radians().tan());
-    if !(forward.is_finite() && forward > 0.0) {
-        return [0.5 * w, 0.5 * h];
-    }
-    let tx = gaze_camera.x / forward / (0.5 * fov_deg[0]).to_radians().tan();
-    let ty = gaze_camera.y / forward / (0.5 * fov_deg[1]).to_radians().tan();
-    [0.5 * w * (1.0 + tx), 0.5 * h * (1.0 - ty)]
+    acuity::display::direction_to_pixel(gaze_camera, resolution_px, fov_deg)
 }
 
 /// A dump being written: PNGs as frames come, `gaze.csv` and

@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use acuity::display::projection_scale;
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
 use acuity_render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
@@ -381,8 +382,8 @@ impl World {
     /// the image, with an infinite far plane.
     pub fn view_proj(&self, view: &FrameView) -> Mat4 {
         let [fh, fv] = self.scene.display.fov_deg;
-        let sx = 1.0 / (0.5 * fh).to_radians().tan() as f32;
-        let sy = 1.0 / (0.5 * fv).to_radians().tan() as f32;
+        let sx = projection_scale(fh) as f32;
+        let sy = projection_scale(fv) as f32;
         // Right-handed, looking along -Z, depth 0 at the near plane and 1
         // at infinity (glam's `perspective_infinite_rh` with separate x and
         // y scales, so non-square pixels keep the display's field of view).

@@ -206,17 +206,10 @@ fn screen_point_at(points: &[GazePoint], t_s: f64) -> DVec2 {
 }
 
 /// The camera-space unit direction through a screen point given in degrees
-/// from the display centre (see the module docs). Non-finite components
-/// count as 0.
+/// from the display centre (see the module docs):
+/// [`acuity::display::screen_angles_to_direction`].
 pub fn screen_point_to_direction(point_deg: DVec2) -> DVec3 {
-    let clean = |a: f64| {
-        if a.is_finite() {
-            a.clamp(-89.0, 89.0).to_radians().tan()
-        } else {
-            0.0
-        }
-    };
-    DVec3::new(clean(point_deg.x), clean(point_deg.y), -1.0).normalize()
+    acuity::display::screen_angles_to_direction(point_deg)
 }
 
 #[cfg(test)]

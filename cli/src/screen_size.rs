@@ -59,8 +59,7 @@ pub fn relative_height(radius_m: f64, distance_m: f64, fov_v_deg: f64) -> f64 {
     if distance_m <= radius_m {
         return f64::INFINITY;
     }
-    let half_height = distance_m * (0.5 * fov_v_deg).to_radians().tan();
-    radius_m / half_height
+    radius_m / distance_m * acuity::display::projection_scale(fov_v_deg)
 }
 
 /// The sensible default table for `n_lods` LODs: the first `n` of

@@ -11,6 +11,7 @@ use crate::acuity::{
     DRIFT_VELOCITY_DEG_PER_S, ECCENTRICITY_CEILING_DEG, ECCENTRICITY_FLOOR_DEG, EccentricityModel,
     MAX_ACUITY_CPD, MAX_ECCENTRICITY_DEG, MIN_ACUITY_CPD, VELOCITY_CEILING_DEG_PER_S,
     VELOCITY_FLOOR_DEG_PER_S, VelocityModel, cortical_factor_unchecked,
+    kelly_velocity_acuity_unchecked, reddy_eccentricity_factor_unchecked, reddy_velocity_piece_cpd,
 };
 use crate::fastmath;
 use crate::viewpoints;
@@ -506,7 +507,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
             VelocityModel::Kelly1979 => {
                 for i in 0..n {
                     let v = fastmath::max(m.seen_velocity[i], DRIFT_VELOCITY_DEG_PER_S);
-                    let g = MAX_ACUITY_CPD * ((DRIFT_VELOCITY_DEG_PER_S + 2.0) / (v + 2.0));
+                    let g = kelly_velocity_acuity_unchecked(v);
                     m.threshold_cpd[i] = fastmath::max(g, floor_cpd);
                 }
             }
@@ -518,7 +519,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                         VELOCITY_CEILING_DEG_PER_S,
                     );
                     let g = fastmath::clamp(
-                        57.69 - 27.78 * fastmath::log10(v),
+                        reddy_velocity_piece_cpd(fastmath::log10(v)),
                         MIN_ACUITY_CPD,
                         MAX_ACUITY_CPD,
                     );
@@ -544,8 +545,7 @@ fn model<const VELOCITY: bool, const ECCENTRICITY: bool, const NEAREST: bool>(
                         ECCENTRICITY_FLOOR_DEG,
                         ECCENTRICITY_CEILING_DEG,
                     );
-                    let q = 0.3 * e + 1.0;
-                    m_factor[i] = fastmath::min(7.49 / (q * q), 1.0);
+                    m_factor[i] = reddy_eccentricity_factor_unchecked(e);
                 }
             }
         }

@@ -247,7 +247,7 @@ impl PhysicalScreen {
     /// Horizontal and vertical field of view, degrees: `2 atan(size / (2 distance))`.
     pub fn fov_deg(&self) -> [f64; 2] {
         self.size_cm
-            .map(|s| 2.0 * (0.5 * s / self.distance_cm).atan().to_degrees())
+            .map(|s| acuity::display::physical_fov_deg(s, self.distance_cm))
     }
 }
 
