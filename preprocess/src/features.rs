@@ -76,6 +76,16 @@ pub enum Grouping {
     Regions,
 }
 
+impl Grouping {
+    /// A stable name (settings files, cache keys).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ChangeSign => "change_sign",
+            Self::Regions => "regions",
+        }
+    }
+}
+
 /// How unique features are found and measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FeatureSettings {

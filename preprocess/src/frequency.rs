@@ -74,6 +74,18 @@ pub enum FrequencyStatistic {
     Thickness,
 }
 
+impl FrequencyStatistic {
+    /// A stable name, as the command line and scene files spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Longest => "longest",
+            Self::Shortest => "shortest",
+            Self::Mean => "mean",
+            Self::Thickness => "thickness",
+        }
+    }
+}
+
 /// One feature: a connected set of pixels, measured along K directions.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Feature {

@@ -117,6 +117,36 @@ impl AnalysisSettings {
     /// Largest `viewpoint_level` ([`views::MAX_VIEWPOINT_LEVEL`]).
     pub const MAX_VIEWPOINT_LEVEL: u32 = views::MAX_VIEWPOINT_LEVEL;
 
+    /// A stable text encoding of every field and [`ANALYSIS_VERSION`], the
+    /// settings' part of a profile's cache key: fields by name, enums by
+    /// their names, floats by their bit patterns, so the key changes exactly
+    /// when a setting does, whatever `Debug` or float formatting does.
+    pub fn cache_key(&self) -> String {
+        // Destructured without `..`: a new field fails to compile until it
+        // is part of the key.
+        let Self {
+            resolution_px,
+            min_diameter_px,
+            viewpoint_level,
+            grouping,
+            threshold_delta_e,
+            feret_directions,
+            msaa_samples,
+            statistic,
+            background_srgb: [r, g, b],
+        } = self;
+        format!(
+            "analysis v{ANALYSIS_VERSION}; resolution_px={resolution_px}; \
+             min_diameter_px={min_diameter_px}; viewpoint_level={viewpoint_level}; \
+             grouping={}; threshold_delta_e_bits={:#010x}; \
+             feret_directions={feret_directions}; msaa_samples={msaa_samples}; \
+             statistic={}; background_srgb={r},{g},{b}",
+            grouping.name(),
+            threshold_delta_e.to_bits(),
+            statistic.name(),
+        )
+    }
+
     /// The rungs of the size ladder, ascending: `resolution_px` halved
     /// (rounding down) while the result is at least `min_diameter_px`.
     pub fn diameters_px(&self) -> Vec<u32> {
@@ -734,6 +764,10 @@ pub fn input_hashes(
 ) -> Result<Vec<InputHash>, Error> {
     let mut out = Vec::new();
     let hash_str = |s: &str| blake3::hash(s.as_bytes()).to_hex().to_string();
+    let generation = |targets: &[u32]| InputHash {
+        what: "lod-generation".into(),
+        hash_hex: hash_str(&format!("meshopt-simplify targets={}", list(targets))),
+    };
     match object {
         ObjectSource::Files { lod_paths, .. } => {
             for p in lod_paths {
@@ -746,24 +780,19 @@ pub fn input_hashes(
             ..
         } => {
             hash_obj_and_mtls(path, &mut out)?;
-            out.push(InputHash {
-                what: "lod-generation".into(),
-                hash_hex: hash_str(&format!("meshopt-simplify targets={triangle_targets:?}")),
-            });
+            out.push(generation(triangle_targets));
         }
         ObjectSource::Procedural {
             params,
             triangle_targets,
             ..
         } => {
+            let ProceduralParams { triangles, seed } = *params;
             out.push(InputHash {
                 what: lods::procedural_description(*params).display().to_string(),
-                hash_hex: hash_str(&format!("{params:?}")),
+                hash_hex: hash_str(&format!("bumpy-torus triangles={triangles} seed={seed}")),
             });
-            out.push(InputHash {
-                what: "lod-generation".into(),
-                hash_hex: hash_str(&format!("meshopt-simplify targets={triangle_targets:?}")),
-            });
+            out.push(generation(triangle_targets));
         }
         ObjectSource::Shape {
             shape,
@@ -773,16 +802,27 @@ pub fn input_hashes(
             out.push(InputHash {
                 what: format!("procedural:{}", shape.name()),
                 hash_hex: hash_str(&format!(
-                    "tessellate {shape:?} targets={triangle_targets:?}"
+                    "tessellate {} targets={}",
+                    shape.name(),
+                    list(triangle_targets)
                 )),
             });
         }
     }
     out.push(InputHash {
         what: "settings".into(),
-        hash_hex: hash_str(&format!("v{ANALYSIS_VERSION} {settings:?}")),
+        hash_hex: hash_str(&settings.cache_key()),
     });
     Ok(out)
+}
+
+/// `1,2,3`: a list of counts as cache keys write it.
+fn list(values: &[u32]) -> String {
+    values
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 fn hash_obj_and_mtls(path: &Path, out: &mut Vec<InputHash>) -> Result<(), Error> {

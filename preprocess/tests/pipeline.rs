@@ -3,6 +3,8 @@
 
 use std::time::Instant;
 
+use acuity_preprocess::features::Grouping;
+use acuity_preprocess::frequency::FrequencyStatistic;
 use acuity_preprocess::lods::{PAPER_TRIANGLE_TARGETS, ProceduralParams};
 use acuity_preprocess::{
     AnalysisSettings, ObjectSource, Renderer, RendererOptions, RunOptions, analyse,
@@ -294,4 +296,65 @@ fn input_hashes_cover_files_mtls_parameters_and_settings() {
     std::fs::remove_file(dir.join("a.mtl")).unwrap();
     assert_eq!(input_hashes(&src, &s).unwrap()[1].hash_hex, "missing");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn default_settings_have_a_pinned_cache_key() {
+    // Changing this string invalidates every cached profile: do it only
+    // with a new ANALYSIS_VERSION or a new setting.
+    assert_eq!(
+        AnalysisSettings::default().cache_key(),
+        "analysis v2; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
+         grouping=change_sign; threshold_delta_e_bits=0x40133333; feret_directions=8; \
+         msaa_samples=4; statistic=thickness; background_srgb=0,0,0"
+    );
+}
+
+#[test]
+fn every_setting_changes_the_cache_key() {
+    let base = AnalysisSettings::default();
+    let variants = [
+        AnalysisSettings {
+            resolution_px: 256,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            min_diameter_px: 32,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            viewpoint_level: 2,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            grouping: Grouping::Regions,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            threshold_delta_e: f32::from_bits(base.threshold_delta_e.to_bits() + 1),
+            ..base.clone()
+        },
+        AnalysisSettings {
+            feret_directions: 16,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            msaa_samples: 1,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            statistic: FrequencyStatistic::Longest,
+            ..base.clone()
+        },
+        AnalysisSettings {
+            background_srgb: [0, 0, 1],
+            ..base.clone()
+        },
+    ];
+    let mut keys: Vec<String> = variants.iter().map(AnalysisSettings::cache_key).collect();
+    keys.push(base.cache_key());
+    let n = keys.len();
+    keys.sort();
+    keys.dedup();
+    assert_eq!(keys.len(), n, "two settings share a cache key");
 }
