@@ -274,9 +274,10 @@ impl World {
             .with_context(|| format!("object `{}`: making its profile", spec.name))?;
             if options.verbose {
                 eprintln!(
-                    "object `{}`: {} LODs, profile {}",
+                    "object `{}`: {} LOD{}, profile {}",
                     spec.name,
                     profile.lod_count(),
+                    if profile.lod_count() == 1 { "" } else { "s" },
                     match cache {
                         CacheOutcome::Cached => "cached",
                         CacheOutcome::Analysed => "analysed",

@@ -187,10 +187,8 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .triangles
                 .clone()
                 .unwrap_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec());
-            if targets.len() < 2 || targets.windows(2).any(|w| w[1] >= w[0]) || targets[0] == 0 {
-                return Err(PreprocessError::Usage(format!(
-                    "--triangles {targets:?}: give at least 2 positive targets, strictly decreasing"
-                )));
+            if let Err(e) = lods::check_targets(&targets) {
+                return Err(PreprocessError::Usage(format!("--triangles: {e}")));
             }
             let name = path
                 .file_stem()

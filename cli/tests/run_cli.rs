@@ -104,6 +104,38 @@ fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
 }
 
 #[test]
+fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
+    let dir = scratch("single_lod");
+    let scene = dir.join("single.toml");
+    let text = TINY.replace(
+        "[camera]",
+        "[[objects]]\nname = \"single\"\nprocedural = { kind = \"rock\", triangles = [500] }\n\
+         transform = { position = [0.0, 0.0, -5.0] }\n\n[camera]",
+    );
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let o = acuity(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--profile-resolution",
+        "64",
+        "--profile-viewpoints",
+        "0",
+        "--policies",
+        "full,screen_size,acuity_all",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    for line in csv.lines().skip(1) {
+        let triangles: u64 = line.split(',').nth(5).unwrap().parse().unwrap();
+        assert!(triangles >= 500, "the single LOD went missing: {line}");
+    }
+}
+
+#[test]
 fn broken_object_gives_a_clear_error() {
     let dir = scratch("broken");
     std::fs::write(dir.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();

@@ -2,7 +2,11 @@
 //! procedural test object.
 //!
 //! An LOD chain is a `Vec<Mesh>`, finest first, with strictly decreasing
-//! triangle counts and at least two levels.
+//! triangle counts and 1 to [`MAX_LODS`] levels. This module holds every
+//! rule of a chain ([`check_lod_count`], [`check_targets`],
+//! [`check_chain`]); scene files, the command line and the offline pass
+//! call these instead of restating them. A chain of one LOD is valid: it
+//! has nothing to switch, so the offline pass measures nothing for it.
 //!
 //! # Generation
 //! [`generate_lods`] makes one LOD per triangle target, each simplified
@@ -33,7 +37,71 @@ pub fn load_lod_files(object: &str, paths: &[PathBuf]) -> Result<(Vec<Mesh>, Vec
     Ok((lods, warnings))
 }
 
-/// Checks that `lods` has at least two levels, each a valid mesh, with
+/// Most LODs in a chain: what a profile holds ([`acuity::profile::MAX_LODS`]).
+pub const MAX_LODS: usize = acuity::profile::MAX_LODS;
+
+/// Checks that a chain of `count` LODs has 1 to [`MAX_LODS`] of them.
+pub fn check_lod_count(count: usize) -> Result<(), String> {
+    if (1..=MAX_LODS).contains(&count) {
+        Ok(())
+    } else {
+        Err(format!("{count} LODs; a chain has 1 to {MAX_LODS}"))
+    }
+}
+
+/// What is wrong with a list of triangle targets ([`check_targets`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TargetsError {
+    /// The bad entry, or `None` when the list as a whole is wrong.
+    pub index: Option<usize>,
+    /// Why.
+    pub message: String,
+}
+
+impl std::fmt::Display for TargetsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.index {
+            Some(i) => write!(f, "entry {i}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+/// Checks the triangle targets of a chain, finest first: 1 to [`MAX_LODS`]
+/// of them, each positive, strictly decreasing.
+pub fn check_targets(triangle_targets: &[u32]) -> Result<(), TargetsError> {
+    check_lod_count(triangle_targets.len()).map_err(|message| TargetsError {
+        index: None,
+        message,
+    })?;
+    for (k, &n) in triangle_targets.iter().enumerate() {
+        let message = if n == 0 {
+            "0 triangles".to_string()
+        } else if k > 0 && n >= triangle_targets[k - 1] {
+            format!(
+                "{n} must be below the previous LOD's {} (finest first)",
+                triangle_targets[k - 1]
+            )
+        } else {
+            continue;
+        };
+        return Err(TargetsError {
+            index: Some(k),
+            message,
+        });
+    }
+    Ok(())
+}
+
+/// [`check_targets`] as the offline pass's error.
+pub(crate) fn check_targets_setting(triangle_targets: &[u32]) -> Result<(), Error> {
+    check_targets(triangle_targets).map_err(|e| Error::Settings {
+        field: "triangle_targets",
+        message: e.to_string(),
+    })
+}
+
+/// Checks that `lods` has 1 to [`MAX_LODS`] levels, each a valid mesh, with
 /// strictly decreasing triangle counts. The error names the first bad LOD.
 pub fn check_chain(object: &str, lods: &[Mesh]) -> Result<(), Error> {
     let err = |lod: usize, message: String| Error::LodChain {
@@ -41,12 +109,7 @@ pub fn check_chain(object: &str, lods: &[Mesh]) -> Result<(), Error> {
         lod,
         message,
     };
-    if lods.len() < 2 {
-        return Err(err(
-            lods.len(),
-            format!("a chain needs at least 2 LODs, got {}", lods.len()),
-        ));
-    }
+    check_lod_count(lods.len()).map_err(|m| err(lods.len().min(MAX_LODS), m))?;
     for (i, m) in lods.iter().enumerate() {
         m.check().map_err(|e| err(i, e))?;
         if i > 0 && m.triangle_count() >= lods[i - 1].triangle_count() {
@@ -71,28 +134,13 @@ pub fn generate_lods(
     source: &Mesh,
     triangle_targets: &[u32],
 ) -> Result<Vec<Mesh>, Error> {
-    check_targets(triangle_targets)?;
+    check_targets_setting(triangle_targets)?;
     let lods: Vec<Mesh> = triangle_targets
         .iter()
         .map(|&t| simplify(source, t as usize))
         .collect();
     check_chain(object, &lods)?;
     Ok(lods)
-}
-
-/// Triangle targets of an LOD chain must strictly decrease.
-pub fn check_targets(triangle_targets: &[u32]) -> Result<(), Error> {
-    match triangle_targets.windows(2).position(|w| w[1] >= w[0]) {
-        Some(w) => Err(Error::Settings {
-            field: "triangle_targets",
-            message: format!(
-                "targets must strictly decrease; {} is followed by {}",
-                triangle_targets[w],
-                triangle_targets[w + 1]
-            ),
-        }),
-        None => Ok(()),
-    }
 }
 
 /// Simplifies `mesh` to at most about `target_triangles` (see the module
@@ -276,6 +324,23 @@ mod tests {
         });
         let e = check_chain("obj", &[a.clone(), simplify(&a, 50), simplify(&a, 50)]).unwrap_err();
         assert!(matches!(e, Error::LodChain { lod: 2, .. }), "{e}");
-        assert!(check_chain("obj", std::slice::from_ref(&a)).is_err());
+        assert!(check_chain("obj", std::slice::from_ref(&a)).is_ok());
+        assert!(matches!(
+            check_chain("obj", &[]),
+            Err(Error::LodChain { lod: 0, .. })
+        ));
+    }
+
+    #[test]
+    fn targets_follow_one_rule() {
+        assert!(check_targets(&[100]).is_ok());
+        assert!(check_targets(&[100, 50, 1]).is_ok());
+        assert_eq!(check_targets(&[]).unwrap_err().index, None);
+        assert_eq!(check_targets(&[0]).unwrap_err().index, Some(0));
+        assert_eq!(check_targets(&[100, 100]).unwrap_err().index, Some(1));
+        assert_eq!(check_targets(&[100, 50, 60]).unwrap_err().index, Some(2));
+        let too_many: Vec<u32> = (1..=MAX_LODS as u32 + 1).rev().collect();
+        assert_eq!(check_targets(&too_many).unwrap_err().index, None);
+        assert!(check_targets(&too_many[1..]).is_ok());
     }
 }

@@ -485,6 +485,20 @@ pub fn analyse_lods(
         });
     }
     let viewpoints = views::viewpoints(settings.viewpoint_level)?;
+    let diameters = settings.diameters_px();
+    if lods.len() == 1 {
+        // Nothing to switch to, so nothing to measure or render.
+        return Ok(ObjectAnalysis {
+            name: name.into(),
+            lod_triangles: vec![lods[0].triangle_count() as u32],
+            bounding_sphere: (centre, radius),
+            viewpoints,
+            diameters_px: diameters,
+            transitions: Vec::new(),
+            input_hashes: Vec::new(),
+            warnings: Vec::new(),
+        });
+    }
     let inspect = match run.inspect_dir {
         Some(d) => {
             let dir = d.join(sanitize(name));
@@ -497,7 +511,6 @@ pub fn analyse_lods(
         None => None,
     };
 
-    let diameters = settings.diameters_px();
     // The analysis is in cycles per object diameter, so it is drawn at unit
     // size: a mesh of 1e-30 or 1e30 model units renders like one of 1.
     let ids: Vec<MeshId> = lods

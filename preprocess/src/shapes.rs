@@ -117,7 +117,7 @@ impl Shape {
     /// An LOD chain: the shape tessellated at each target (finest first,
     /// strictly decreasing), checked ([`lods::check_chain`]).
     pub fn lods(self, object: &str, triangle_targets: &[u32]) -> Result<Vec<Mesh>, Error> {
-        lods::check_targets(triangle_targets)?;
+        lods::check_targets_setting(triangle_targets)?;
         let lods: Vec<Mesh> = triangle_targets.iter().map(|&t| self.mesh(t)).collect();
         lods::check_chain(object, &lods)?;
         Ok(lods)

@@ -2,6 +2,7 @@
 //! triangle targets, its transform or seeded copies, and the scene's
 //! triangles at full detail.
 
+use acuity_preprocess::lods;
 use glam::DVec3;
 
 use super::context::{Ctx, Res};
@@ -28,8 +29,8 @@ impl Ctx<'_> {
                 if o.generate_triangles.is_some() {
                     return Err(self.invalid(at("generate_triangles"), "only valid with `mesh`"));
                 }
-                if lods.is_empty() {
-                    return Err(self.invalid(at("lods"), "needs at least one mesh file"));
+                if let Err(message) = lods::check_lod_count(lods.len()) {
+                    return Err(self.invalid(at("lods"), message));
                 }
                 for (k, l) in lods.iter().enumerate() {
                     if l.trim().is_empty() {
@@ -164,23 +165,9 @@ impl Ctx<'_> {
     }
 
     fn triangles(&self, field: &str, triangles: &[u32]) -> Res<()> {
-        if triangles.is_empty() {
-            return Err(self.invalid(field, "needs at least one LOD"));
-        }
-        for (k, &n) in triangles.iter().enumerate() {
-            if n == 0 {
-                return Err(self.invalid(format!("{field}[{k}]"), "0 triangles"));
-            }
-            if k > 0 && n >= triangles[k - 1] {
-                return Err(self.invalid(
-                    format!("{field}[{k}]"),
-                    format!(
-                        "{n} must be below the previous LOD's {} (finest first)",
-                        triangles[k - 1]
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        lods::check_targets(triangles).map_err(|e| match e.index {
+            Some(k) => self.invalid(format!("{field}[{k}]"), e.message),
+            None => self.invalid(field, e.message),
+        })
     }
 }
