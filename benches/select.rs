@@ -40,7 +40,7 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel) -> (Selector, Vec<ObjectId>)
     let profiles: Vec<_> = (0..8)
         .map(|s| sel.add_profile(&four_lod_profile(s)).unwrap())
         .collect();
-    let mut rng = Rng(42);
+    let mut rng = Rng::new(42);
     let ids = (0..n)
         .map(|i| {
             // Objects around the camera, most in front (a fly-through's view).

@@ -498,6 +498,8 @@ fn cube_coords(d: Vec3) -> (u32, f32, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_xorshift::XorShiftRng;
 
     /// The octahedron's vertices and its 12 edge midpoints: 18 directions.
     fn eighteen() -> Vec<Vec3> {
@@ -513,14 +515,10 @@ mod tests {
         dirs
     }
 
-    /// A seeded xorshift generator, uniform in `[-1, 1)`.
-    fn uniform(mut state: u64) -> impl FnMut() -> f32 {
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        }
+    /// The seeded generator of the tests, uniform in `[-1, 1)`.
+    fn uniform(seed: u64) -> impl FnMut() -> f32 {
+        let mut rng = XorShiftRng::seed_from_u64(seed);
+        move || rng.random_range(-1.0f32..1.0)
     }
 
     /// `count` random unit directions.

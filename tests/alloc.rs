@@ -41,7 +41,7 @@ fn warm_frames_allocate_nothing() {
     let mut sel = Selector::new(display, SelectorSettings::default());
     let p = sel.add_profile(&four_lod_profile(1)).unwrap();
     let single = sel.add_profile(&single_lod_profile()).unwrap();
-    let mut rng = Rng(1);
+    let mut rng = Rng::new(1);
     for i in 0..5000 {
         sel.add_object(ObjectDesc {
             center: rng.point(100.0),

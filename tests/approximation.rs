@@ -187,7 +187,7 @@ fn fast_loop_matches_the_oracle(display: Display, settings: SelectorSettings) {
     let profile = four_lod_profile(3);
     let models = (settings.velocity_model, settings.eccentricity_model);
     let oracle = Oracle::new(&profile, &display, models);
-    let mut rng = Rng(2024);
+    let mut rng = Rng::new(2024);
     let mut selector = Selector::new(
         display,
         SelectorSettings {

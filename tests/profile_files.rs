@@ -6,8 +6,13 @@ use acuity::{Error, Profile};
 use common::four_lod_profile;
 use proptest::prelude::*;
 
+/// A fresh folder under cargo's per-target scratch space (not the system's
+/// temporary folder, which would collect one folder per run).
 fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("acuity-profile-{name}-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("profile_files")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

@@ -18,7 +18,7 @@ struct Plant {
 
 impl Plant {
     fn new(seed: u64) -> Self {
-        let mut rng = Rng(seed);
+        let mut rng = Rng::new(seed);
         let breakpoints = (0..300)
             .map(|_| {
                 let a = rng.range(0.3, 1.6) as f32;

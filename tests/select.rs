@@ -34,7 +34,7 @@ fn random_scene(
 ) -> (Selector, Vec<ObjectId>) {
     let mut sel = Selector::new(display(), settings);
     let p = sel.add_profile(&four_lod_profile(7)).unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let ids = (0..n)
         .map(|_| {
             let dir = Vec3::new(

@@ -6,6 +6,9 @@
 
 use std::hint::black_box;
 
+use rand::{RngExt, SeedableRng};
+use rand_xorshift::XorShiftRng;
+
 use acuity_preprocess::features::{FeatureSettings, unique_features};
 use acuity_preprocess::lods::{PAPER_TRIANGLE_TARGETS, ProceduralParams, procedural_object};
 use acuity_preprocess::render::Lighting;
@@ -20,13 +23,8 @@ use glam::Mat4;
 /// A seeded, render-like RGBA image: a background with smoothly shaded
 /// discs of many sizes; `shift` moves the discs a little (a second LOD).
 fn image(n: u32, seed: u64, shift: f32) -> Vec<u8> {
-    let mut s = seed;
-    let mut rnd = || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (s >> 33) as f32 / (1u64 << 31) as f32
-    };
+    let mut rng = XorShiftRng::seed_from_u64(seed);
+    let mut rnd = || rng.random::<f32>();
     let discs: Vec<[f32; 6]> = (0..64)
         .map(|_| {
             [

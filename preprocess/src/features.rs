@@ -365,6 +365,8 @@ pub fn most_visible(features: &[Visibility]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_xorshift::XorShiftRng;
 
     #[test]
     fn lightness_inverts_the_cie_formula() {
@@ -408,13 +410,8 @@ mod tests {
     #[test]
     fn the_pareto_set_matches_brute_force() {
         // A small deterministic generator: the same features every run.
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = XorShiftRng::seed_from_u64(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.random::<f32>();
         for n in [0, 1, 5, 50, 300] {
             let mut pair = || {
                 let (a, b) = ((next() * 8.0).round() / 8.0, (next() * 8.0).round() / 8.0);

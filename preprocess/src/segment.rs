@@ -349,6 +349,8 @@ pub(crate) fn label_components(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_xorshift::XorShiftRng;
 
     #[test]
     fn luv_of_white_black_and_red() {
@@ -485,13 +487,8 @@ mod tests {
 
     #[test]
     fn labelling_matches_a_flood_fill_on_random_images() {
-        let mut s = 7u64;
-        let mut rnd = move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 33) as u32
-        };
+        let mut rng = XorShiftRng::seed_from_u64(7);
+        let mut rnd = move || rng.random::<u32>();
         for case in 0..60 {
             let (w, h) = (1 + rnd() as usize % 40, 1 + rnd() as usize % 40);
             let density = rnd() % 100;

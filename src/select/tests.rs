@@ -2,6 +2,8 @@
 //! every switch, vector width, row layout and (with `parallel`) work split.
 
 use glam::{DVec3, Quat, Vec3};
+use rand::{RngExt, SeedableRng};
+use rand_xorshift::XorShiftRng;
 
 #[cfg(feature = "parallel")]
 use super::dispatch::CHUNK;
@@ -20,15 +22,16 @@ use crate::fastmath;
 use crate::profile::Profile;
 use crate::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
 
-/// A seeded xorshift generator, uniform in `[-1, 1)` times `scale`.
-struct Rng(u64);
+/// The seeded generator of the tests, uniform in `[-1, 1)` times `scale`.
+struct Rng(XorShiftRng);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(XorShiftRng::seed_from_u64(seed))
+    }
+
     fn next(&mut self, scale: f32) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * scale
+        self.0.random_range(-1.0f32..1.0) * scale
     }
 
     fn rotation(&mut self) -> Quat {
@@ -237,7 +240,7 @@ fn matches_reference(
     kinds: &[(usize, usize)],
     shared: bool,
 ) {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15 ^ seed);
     // Every other seed on a sampled display, whose motion floor binds.
     let refresh_hz = (seed % 2 == 1).then_some(90.0);
     let display = Display::new([1920, 1080], [90.0, 58.7])
@@ -258,7 +261,7 @@ fn matches_reference(
     for &(lods, views) in kinds {
         let mut p = profile(&mut rng, lods, views);
         if shared {
-            p.viewpoints = profile(&mut Rng(views as u64 + 1), 2, views).viewpoints;
+            p.viewpoints = profile(&mut Rng::new(views as u64 + 1), 2, views).viewpoints;
         }
         profiles.push(sel.add_profile(&p).unwrap());
     }
@@ -421,11 +424,11 @@ fn uniform_layouts_match_the_reference() {
     ];
     for (k, (kinds, shared, layout)) in cases.into_iter().enumerate() {
         let mut sel = Selector::new(Display::new([64, 64], [60.0, 60.0]).unwrap(), nearest);
-        let mut rng = Rng(k as u64 + 1);
+        let mut rng = Rng::new(k as u64 + 1);
         for &(lods, views) in kinds {
             let mut p = profile(&mut rng, lods, views);
             if shared {
-                p.viewpoints = profile(&mut Rng(views as u64 + 1), 2, views).viewpoints;
+                p.viewpoints = profile(&mut Rng::new(views as u64 + 1), 2, views).viewpoints;
             }
             sel.add_profile(&p).unwrap();
         }
@@ -449,13 +452,8 @@ fn the_parallel_loop_matches_a_scalar_reference_bit_for_bit() {
 
 #[test]
 fn to_object_frame_rounds_like_glam() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = |scale: f32| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        ((state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * scale
-    };
+    let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+    let mut next = |scale: f32| rng.next(scale);
     for k in 0..200_000 {
         let q = Quat::from_xyzw(next(1.0), next(1.0), next(1.0), next(1.0));
         let Ok(q) = normalized_rotation(q, "q") else {
