@@ -21,12 +21,8 @@
 //!   Implemented as union-find over pixel indices with path halving, two
 //!   linear passes, no recursion (safe for 4096² and beyond), O(pixels).
 //!   The label array is the union-find forest itself, turned into labels in
-//!   place by the second pass (one allocation per image).
-//! - **Speed** (this 2-core machine, `benches/segment.rs`): conversion plus
-//!   region growing ≈ 9 ns/pixel at 512² and ≈ 15 ns/pixel at 2048², where
-//!   ≈ 7 ns/pixel is the kernel faulting in the fresh 12 bytes/pixel
-//!   [`LuvImage`] (a 50 MB allocation that the allocator maps anew each
-//!   time).
+//!   place by the second pass (one allocation per image). Its speed is
+//!   measured by `benches/segment.rs` (numbers in `docs/performance.md`).
 
 use palette::{FromColor, Luv, Srgb, white_point::D65};
 

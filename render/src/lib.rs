@@ -39,17 +39,9 @@
 //!   targets, their views and the readback buffer are made once per size,
 //!   the pipeline and bind group once. The readback buffer is mapped once
 //!   per frame and copied out in one piece when rows need no padding.
-//! - **Where the time goes on llvmpipe** (2 cores, 512², the 3928-triangle
-//!   LOD of the paper's object): ≈ 0.4 ms is the frame without
-//!   rasterisation (clear, submit, wait, 1 MB readback); the rest is
-//!   llvmpipe's per-pixel work, ≈ 3.7 ms when both cores are free for its
-//!   two rasteriser threads and ≈ 6.5 ms with one (it scales with the
-//!   pixel count, not the triangle count: the 76-triangle LOD takes
-//!   ≈ 2.9 ms). A constant-colour shader into an `Rgba8Unorm` target still
-//!   takes ≈ 2 ms, so "≈ 2 ms per 512² view" is llvmpipe's floor here, not
-//!   reachable with this shading. `Rgba8Unorm` would save the sRGB encode
-//!   (≈ 25 %) but quantises linear light to 8 bits, which changes the bytes,
-//!   so the target stays `Rgba8UnormSrgb`.
+//! - **sRGB target**: `Rgba8UnormSrgb`, not `Rgba8Unorm`: the latter would
+//!   save the encode but quantise linear light to 8 bits. Where the time
+//!   goes on llvmpipe is measured in `docs/performance.md`.
 
 pub mod error;
 pub mod mesh;

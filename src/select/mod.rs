@@ -32,8 +32,8 @@
 //! LODs counted in straight-line passes too, and a dense block's outputs
 //! are written by masks rather than object by object. 64 lanes a pass give
 //! each pass 4 independent vectors of 16 to overlap (the polynomials are
-//! long dependency chains); 32 measured about 1 ns per object slower with
-//! AVX-512. Each block's data is prefetched into L2 two blocks ahead (into
+//! long dependency chains; 32 measured slower, see `docs/selection.md`).
+//! Each block's data is prefetched into L2 two blocks ahead (into
 //! L1 it evicts the loop's own 13 KB of scratch). With the feature
 //! `simd-dispatch` the loop runs compiled for AVX-512 or AVX2 and FMA where
 //! the CPU has them (bit-identical results: nothing is fused). The loop is

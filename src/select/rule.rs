@@ -48,7 +48,7 @@ pub(super) fn count_coarser_padded(row: &[f32], k_cdiam: f32) -> usize {
 /// The entries of `group` above `k_cdiam`, in one 4-wide comparison:
 /// glam's `Vec4` is a vector register, so loops over objects that call
 /// this are not widened into gathers across objects (which measured
-/// slower: about 1 ns per object).
+/// slower).
 #[inline(always)]
 fn count_group(group: [f32; 4], k_cdiam: f32) -> u32 {
     Vec4::from_array(group)
