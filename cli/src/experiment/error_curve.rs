@@ -1,0 +1,388 @@
+//! `acuity experiment error`: run time against error. Mean frame time and
+//! triangles against mean FLIP (and FovVideoVDP JOD), for screen size
+//! across its bias and acuity across `s`, compared at equal error.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+
+use crate::dump::{Metric, check_fvvdp, score_fvvdp};
+use crate::player::{PlaySettings, Player};
+use crate::plot::{LinePlot, Series, save_line_plot};
+use crate::report::{Summary, attach_jod, summarize};
+use crate::scene::Policy;
+
+use super::CommonArgs;
+
+/// Arguments of `acuity experiment error`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ErrorArgs {
+    /// The scene.
+    #[arg(long, default_value = "scenes/default.toml")]
+    pub scene: PathBuf,
+    /// Screen-size biases, comma-separated (> 0).
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.25, 0.5, 1.0, 2.0, 4.0])]
+    pub biases: Vec<f64>,
+    /// Acuity scale factors `s`, comma-separated, in (0, 1].
+    #[arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5, 0.25, 0.125, 0.0625])]
+    pub scales: Vec<f64>,
+    /// Acuity policies swept across `s`, comma-separated: `acuity_size`
+    /// isolates the size criterion, which FLIP (a foveal, gaze-free metric)
+    /// judges fairly; eccentricity and velocity savings count as error in
+    /// FLIP even where a viewer fixating the gaze cannot see them.
+    #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
+    pub acuity_policies: Vec<String>,
+    /// Frames per configuration, spread over the scene's path.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
+    pub frames: u32,
+    /// FLIP on every n-th frame (>= 1).
+    #[arg(long, default_value_t = 3)]
+    pub flip_every: u32,
+    /// Error metrics, comma-separated: `flip` (FLIP on every n-th frame)
+    /// and `fvvdp` (FovVideoVDP on every frame, foveated at the gaze: needs
+    /// Python with pyfvvdp, `$ACUITY_PYTHON` or `python3`; dumps the frames,
+    /// to `<out>/frames/` without --dump-frames).
+    #[arg(long, value_delimiter = ',', default_value = "flip")]
+    pub metric: Vec<Metric>,
+    /// Screen size's thresholds, relative screen heights, comma-separated,
+    /// strictly decreasing (default: the scene's `run.screen_size_thresholds`,
+    /// else 0.6,0.3,0.1,0.03).
+    #[arg(long, value_delimiter = ',')]
+    pub screen_size_thresholds: Option<Vec<f64>>,
+    /// Weight screen size's relative heights by the observer's
+    /// eccentricity factor at each object's angle from the gaze (a foveated
+    /// screen-size baseline; default: the scene's `run.screen_size_foveated`).
+    #[arg(long)]
+    pub screen_size_foveated: bool,
+    /// Options every experiment shares.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// Runs the error experiment; writes `error.csv`, with FLIP
+/// `error_time.png` and `error_triangles.png`, with FovVideoVDP
+/// `error_jod.png`; returns the summaries (full detail first).
+pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
+    if args.frames == 0 || args.flip_every == 0 {
+        bail!("--frames and --flip-every need at least 1");
+    }
+    if let Some(b) = args.biases.iter().find(|b| !(b.is_finite() && **b > 0.0)) {
+        bail!("bias {b} is not > 0");
+    }
+    if let Some(s) = args.scales.iter().find(|s| !(**s > 0.0 && **s <= 1.0)) {
+        bail!("scale factor {s} is not in (0, 1]");
+    }
+    let mut acuity_policies = Vec::new();
+    for name in &args.acuity_policies {
+        let p = crate::scene::policy_by_name(name)?;
+        if !p.is_fixed_scale_acuity() {
+            bail!("`{name}` is not an acuity policy with a fixed scale factor");
+        }
+        if !acuity_policies.contains(&p) {
+            acuity_policies.push(p);
+        }
+    }
+    let (flip, fvvdp) = (
+        args.metric.contains(&Metric::Flip),
+        args.metric.contains(&Metric::Fvvdp),
+    );
+    if fvvdp {
+        check_fvvdp()?;
+    }
+    let mut world = args.common.load(&args.scene)?;
+    if let Some(table) = &args.screen_size_thresholds {
+        crate::screen_size::check_table(table)
+            .map_err(|e| anyhow::anyhow!("--screen-size-thresholds: {e}"))?;
+        world.scene.run.screen_size_thresholds = table.clone();
+    }
+    world.scene.run.screen_size_foveated |= args.screen_size_foveated;
+    let out = args.common.out_dir("error")?;
+    let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
+    settings.flip_every_n_frames = if flip { args.flip_every } else { 0 };
+    settings.keep_images = false;
+    settings.dump_dir = args
+        .common
+        .dump_frames
+        .clone()
+        .or_else(|| fvvdp.then(|| out.join("frames")));
+    let mut configs = vec![(Policy::Full, 1.0)];
+    configs.extend(args.biases.iter().map(|&b| (Policy::ScreenSize, b)));
+    for &p in &acuity_policies {
+        configs.extend(args.scales.iter().map(|&s| (p, s)));
+    }
+    let mut player = Player::new(&world, settings.clone())?;
+    let runs = player.play_configs(&configs, 1.0)?;
+    let mut sums = summarize(&runs, world.scene.run.budget_s());
+    if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
+        attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
+    }
+    let screen_curve = |y: &dyn Fn(&Summary) -> f64| -> Vec<(f64, f64)> {
+        sums.iter()
+            .filter(|s| s.policy == Policy::ScreenSize)
+            .map(|s| (y(s), s.triangles))
+            .collect()
+    };
+    let (flip_curve, jod_curve) = (
+        screen_curve(&|s| s.flip_mean),
+        screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
+    );
+    let mut csv = String::from(
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod\n",
+    );
+    let jod_head = if fvvdp {
+        format!(" {:>6} {:>10}", "JOD", "vs scr JOD")
+    } else {
+        String::new()
+    };
+    println!(
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
+        "policy",
+        "knob",
+        "mean ms",
+        "p95 ms",
+        "tris/frm",
+        "LOD",
+        "sw/s",
+        "FLIP",
+        "FLIP p95",
+        "vs screen"
+    );
+    let text = |v: Option<f64>, f: &dyn Fn(f64) -> String, none: &str| v.map_or(none.into(), f);
+    for s in &sums {
+        let vs = |curve: &[(f64, f64)], v: f64, m: ErrorMeasure| match s.policy {
+            Policy::Full | Policy::ScreenSize => None,
+            _ => triangles_at_equal(curve, v, m).map(|t| s.triangles / t),
+        };
+        let ratio = vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip);
+        let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
+        let _ = writeln!(
+            csv,
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{}",
+            s.policy.name(),
+            s.knob,
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.mean_lod,
+            s.switches_per_s,
+            s.flip_mean,
+            s.flip_p95,
+            text(ratio, &|r| format!("{r:.4}"), ""),
+            text(s.jod, &|r| format!("{r:.4}"), ""),
+            text(ratio_jod, &|r| format!("{r:.4}"), ""),
+        );
+        let jod_cols = if fvvdp {
+            format!(
+                " {:>6} {:>10}",
+                text(s.jod, &|j| format!("{j:.3}"), "-"),
+                text(ratio_jod, &|r| format!("{r:.2}x"), "-")
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>8.4} {:>8.4} {:>10}{jod_cols}",
+            s.policy.name(),
+            s.knob,
+            s.mean_ms,
+            s.p95_ms,
+            s.triangles,
+            s.mean_lod,
+            s.switches_per_s,
+            s.flip_mean,
+            s.flip_p95,
+            text(ratio, &|r| format!("{r:.2}x"), "-")
+        );
+    }
+    let path = out.join("error.csv");
+    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    let curve = |p: Policy, x: &dyn Fn(&Summary) -> f64, y: &dyn Fn(&Summary) -> f64| {
+        let mut pts: Vec<(f64, f64)> = sums
+            .iter()
+            .filter(|s| s.policy == p || s.policy == Policy::Full)
+            .map(|s| (x(s), y(s)))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Series {
+            name: match p {
+                Policy::ScreenSize => "screen size (bias)".into(),
+                _ => format!("{} (s)", p.name()),
+            },
+            points: pts,
+        }
+    };
+    type Field<'a> = &'a dyn Fn(&Summary) -> f64;
+    let flip_x: Field = &|s| s.flip_mean;
+    let jod_x: Field = &|s| s.jod.unwrap_or(f64::NAN);
+    let mut plots: Vec<(&str, &str, &str, &str, Field, Field)> = Vec::new();
+    if flip {
+        plots.push((
+            "error_time.png",
+            "frame time vs FLIP",
+            "mean FLIP",
+            "mean frame time (ms)",
+            flip_x,
+            &|s| s.mean_ms,
+        ));
+        plots.push((
+            "error_triangles.png",
+            "triangles vs FLIP",
+            "mean FLIP",
+            "triangles per frame",
+            flip_x,
+            &|s| s.triangles,
+        ));
+    }
+    if fvvdp {
+        plots.push((
+            "error_jod.png",
+            "triangles vs FovVideoVDP (10 = identical)",
+            "JOD",
+            "triangles per frame",
+            jod_x,
+            &|s| s.triangles,
+        ));
+    }
+    for (file, title, xlabel, ylabel, x, y) in &plots {
+        save_line_plot(
+            &LinePlot {
+                title: (*title).into(),
+                x_label: (*xlabel).into(),
+                y_label: (*ylabel).into(),
+                series: std::iter::once(Policy::ScreenSize)
+                    .chain(acuity_policies.iter().copied())
+                    .map(|p| curve(p, *x, *y))
+                    .collect(),
+                log_x: false,
+                markers: true,
+                y_from_zero: true,
+            },
+            &out.join(file),
+        )?;
+    }
+    if !args.common.profiles.quiet {
+        let files: Vec<&str> = std::iter::once("error.csv")
+            .chain(plots.iter().map(|p| p.0))
+            .collect();
+        eprintln!("wrote {} ({})", out.display(), files.join(", "));
+    }
+    Ok(sums)
+}
+
+/// An error measure, for comparisons at equal error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorMeasure {
+    /// Mean FLIP: lower is better, 0 = identical. Compared on a log scale,
+    /// so points of zero FLIP are left out.
+    Flip,
+    /// FovVideoVDP JOD: higher is better, 10 = identical. Already a
+    /// perceptual scale (one JOD, 75% of observers), compared linearly;
+    /// every finite value counts, 10 included.
+    Jod,
+}
+
+/// The triangles per frame a policy curve (points of error and triangles,
+/// any order) reaches at error `value`, interpolating log(triangles)
+/// linearly between the two neighbouring points along the measure's axis
+/// (log FLIP, or JOD). `None` outside the curve's range of error or where
+/// there is none (no extrapolation: a comparison at an error the curve
+/// never reached is not measured). Points with equal error count as the
+/// one with the fewest triangles (the curve reaches that error with
+/// those). The direction of the measure does not matter here: only where
+/// `value` falls between points does.
+pub fn triangles_at_equal(curve: &[(f64, f64)], value: f64, measure: ErrorMeasure) -> Option<f64> {
+    let axis = |e: f64| match measure {
+        ErrorMeasure::Flip => (e > 0.0 && e.is_finite()).then(|| e.ln()),
+        ErrorMeasure::Jod => e.is_finite().then_some(e),
+    };
+    let x = axis(value)?;
+    let mut pts: Vec<(f64, f64)> = curve
+        .iter()
+        .filter(|&&(_, t)| t > 0.0 && t.is_finite())
+        .filter_map(|&(e, t)| Some((axis(e)?, t)))
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    pts.dedup_by(|b, a| a.0 == b.0);
+    if let Some(&(_, t)) = pts.iter().find(|p| p.0 == x) {
+        return Some(t);
+    }
+    pts.windows(2).find_map(|w| {
+        let ((x0, t0), (x1, t1)) = (w[0], w[1]);
+        (x0 < x && x < x1).then(|| t0 * (t1 / t0).powf((x - x0) / (x1 - x0)))
+    })
+}
+
+/// [`triangles_at_equal`] for mean FLIP.
+pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> {
+    triangles_at_equal(curve, flip, ErrorMeasure::Flip)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_error_interpolates_in_log_log_and_never_extrapolates() {
+        let curve = [(0.04, 10_000.0), (0.01, 40_000.0), (0.0, 90_000.0)];
+        let mid = triangles_at_equal_error(&curve, 0.02).unwrap();
+        assert!((mid - 20_000.0).abs() < 1e-6, "{mid}");
+        assert_eq!(triangles_at_equal_error(&curve, 0.01), Some(40_000.0));
+        assert_eq!(triangles_at_equal_error(&curve, 0.05), None);
+        assert_eq!(triangles_at_equal_error(&curve, 0.005), None);
+        assert_eq!(triangles_at_equal_error(&curve, 0.0), None);
+        assert_eq!(triangles_at_equal_error(&curve, f64::NAN), None);
+    }
+
+    #[test]
+    fn equal_jod_interpolates_log_triangles_linearly_in_jod() {
+        // Higher is better: more triangles, higher JOD; any order.
+        let curve = [(9.0, 40_000.0), (8.0, 10_000.0), (10.0, 90_000.0)];
+        let j = |v| triangles_at_equal(&curve, v, ErrorMeasure::Jod);
+        let mid = j(8.5).unwrap();
+        assert!((mid - 20_000.0).abs() < 1e-6, "{mid}");
+        let upper = j(9.5).unwrap();
+        assert!((upper - 60_000.0).abs() < 1e-6, "{upper}");
+        // The ends are in; JOD 10 (identical) is a point like any other.
+        assert_eq!(j(8.0), Some(10_000.0));
+        assert_eq!(j(10.0), Some(90_000.0));
+        // No extrapolation, no NaN.
+        assert_eq!(j(7.99), None);
+        assert_eq!(j(10.01), None);
+        assert_eq!(j(f64::NAN), None);
+        // FLIP's log axis would refuse these; JOD takes them.
+        let low = [(-1.0, 100.0), (0.0, 400.0)];
+        let t = triangles_at_equal(&low, -0.5, ErrorMeasure::Jod).unwrap();
+        assert!((t - 200.0).abs() < 1e-9, "{t}");
+        assert_eq!(triangles_at_equal(&low, -0.5, ErrorMeasure::Flip), None);
+    }
+
+    #[test]
+    fn equal_error_ties_take_the_fewest_triangles_and_skip_bad_points() {
+        let jod = [
+            (9.0, 50_000.0),
+            (9.0, 30_000.0),
+            (10.0, 90_000.0),
+            (f64::NAN, 1.0),
+            (9.5, 0.0),
+        ];
+        assert_eq!(
+            triangles_at_equal(&jod, 9.0, ErrorMeasure::Jod),
+            Some(30_000.0)
+        );
+        let mid = triangles_at_equal(&jod, 9.5, ErrorMeasure::Jod).unwrap();
+        assert!((mid - (30_000.0f64 * 90_000.0).sqrt()).abs() < 1e-6);
+        // A single point matches only itself.
+        assert_eq!(
+            triangles_at_equal(&[(9.2, 7.0)], 9.2, ErrorMeasure::Jod),
+            Some(7.0)
+        );
+        assert_eq!(
+            triangles_at_equal(&[(9.2, 7.0)], 9.3, ErrorMeasure::Jod),
+            None
+        );
+        // The same for FLIP, lower is better: the direction does not matter.
+        let flip = [(0.02, 50_000.0), (0.02, 30_000.0), (0.01, 90_000.0)];
+        assert_eq!(triangles_at_equal_error(&flip, 0.02), Some(30_000.0));
+    }
+}
