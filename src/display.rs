@@ -1,5 +1,11 @@
 //! The display: resolution and field of view, the highest spatial
 //! frequency it can show, and its light output.
+//!
+//! A field of view is symmetric about the view axis ([`Display::new`]) or
+//! given by its four edges ([`FovEdges`], [`Display::with_fov_edges`]), as
+//! a headset's per-eye fields are (OpenXR reports four angles per eye).
+//! Pixels per degree are taken as uniform over the field: resolution over
+//! field of view on each axis.
 
 use glam::{DVec2, DVec3};
 
@@ -13,6 +19,11 @@ use crate::error::{Error, Result};
 pub struct Display {
     resolution_px: [u32; 2],
     fov_deg: [f32; 2],
+    /// The direction of the field's middle from the view axis, deg (x
+    /// right, y up): `[(left + right) / 2, (up + down) / 2]` of its edges;
+    /// zero for a symmetric field.
+    #[serde(default)]
+    centre_deg: [f32; 2],
     #[serde(default)]
     photometry: Photometry,
     #[serde(default = "default_refresh_hz")]
@@ -28,6 +39,67 @@ pub const DEFAULT_REFRESH_HZ: f32 = 60.0;
 pub const MAX_FOV_DEG: f32 = 179.9;
 /// Smallest field of view accepted, deg.
 pub const MIN_FOV_DEG: f32 = 1e-3;
+/// Largest angle of a field's edge from the view axis, deg (half of
+/// [`MAX_FOV_DEG`]): `tan` of it stays finite in `f32`.
+pub const MAX_EDGE_DEG: f32 = 0.5 * MAX_FOV_DEG;
+
+/// The four edges of a field of view: each edge's signed angle from the
+/// view axis, deg, in OpenXR's `XrFovf` order and signs (x right, y up,
+/// so `left_deg` and `down_deg` are negative when the view axis lies
+/// inside the field). Each edge measures in its own axis's plane: the
+/// right edge is the plane through the eye at `right_deg` to the right of
+/// the view axis, and so on.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FovEdges {
+    /// Angle of the left edge, deg (negative left of the view axis).
+    pub left_deg: f32,
+    /// Angle of the right edge, deg.
+    pub right_deg: f32,
+    /// Angle of the upper edge, deg.
+    pub up_deg: f32,
+    /// Angle of the lower edge, deg (negative below the view axis).
+    pub down_deg: f32,
+}
+
+impl FovEdges {
+    /// The edges of a field `fov_deg` wide and tall (horizontal, vertical)
+    /// centred on the view axis.
+    pub fn symmetric(fov_deg: [f32; 2]) -> Self {
+        let [h, v] = fov_deg.map(|a| 0.5 * a);
+        Self {
+            left_deg: -h,
+            right_deg: h,
+            up_deg: v,
+            down_deg: -v,
+        }
+    }
+
+    /// The edges from OpenXR's `XrFovf` angles, radians
+    /// (`angleLeft`, `angleRight`, `angleUp`, `angleDown`).
+    pub fn from_openxr_radians(left: f32, right: f32, up: f32, down: f32) -> Self {
+        Self {
+            left_deg: left.to_degrees(),
+            right_deg: right.to_degrees(),
+            up_deg: up.to_degrees(),
+            down_deg: down.to_degrees(),
+        }
+    }
+
+    /// Width and height of the field, deg: `right - left`, `up - down`.
+    pub fn fov_deg(&self) -> [f32; 2] {
+        [self.right_deg - self.left_deg, self.up_deg - self.down_deg]
+    }
+
+    /// The smallest field that holds both: the outermost of each edge.
+    pub fn union(&self, other: &Self) -> Self {
+        Self {
+            left_deg: self.left_deg.min(other.left_deg),
+            right_deg: self.right_deg.max(other.right_deg),
+            up_deg: self.up_deg.max(other.up_deg),
+            down_deg: self.down_deg.min(other.down_deg),
+        }
+    }
+}
 
 fn default_refresh_hz() -> Option<f32> {
     Some(DEFAULT_REFRESH_HZ)
@@ -60,9 +132,59 @@ impl Display {
         Ok(Self {
             resolution_px,
             fov_deg,
+            centre_deg: [0.0; 2],
             photometry: Photometry::default(),
             refresh_hz: Some(DEFAULT_REFRESH_HZ),
         })
+    }
+
+    /// A display whose field of view is given by its edges (an asymmetric
+    /// field, as a headset's eye has): each edge finite and within
+    /// `±MAX_EDGE_DEG`, right of left and up of down by at least
+    /// [`MIN_FOV_DEG`]; resolution as in [`Display::new`]. The view axis
+    /// (where [`crate::Gaze::screen_centre`] looks) need not be the
+    /// field's middle.
+    pub fn with_fov_edges(resolution_px: [u32; 2], edges: FovEdges) -> Result<Self> {
+        let FovEdges {
+            left_deg,
+            right_deg,
+            up_deg,
+            down_deg,
+        } = edges;
+        for (name, a) in [
+            ("left_deg", left_deg),
+            ("right_deg", right_deg),
+            ("up_deg", up_deg),
+            ("down_deg", down_deg),
+        ] {
+            if !(-MAX_EDGE_DEG..=MAX_EDGE_DEG).contains(&a) {
+                return Err(Error::invalid(
+                    "fov_edges",
+                    format!("{name} {a} deg is outside [-{MAX_EDGE_DEG}, {MAX_EDGE_DEG}]"),
+                ));
+            }
+        }
+        let mut display = Self::new(resolution_px, edges.fov_deg()).map_err(|e| match e {
+            Error::InvalidParameter { reason, .. } => Error::invalid(
+                "fov_edges",
+                format!("{reason} (left {left_deg}, right {right_deg}, up {up_deg}, down {down_deg} deg)"),
+            ),
+            other => other,
+        })?;
+        display.centre_deg = [0.5 * (left_deg + right_deg), 0.5 * (up_deg + down_deg)];
+        Ok(display)
+    }
+
+    /// The edges of the field of view, deg.
+    pub fn fov_edges(&self) -> FovEdges {
+        let [h, v] = self.fov_deg.map(|a| 0.5 * a);
+        let [cx, cy] = self.centre_deg;
+        FovEdges {
+            left_deg: cx - h,
+            right_deg: cx + h,
+            up_deg: cy + v,
+            down_deg: cy - v,
+        }
     }
 
     /// The same display refreshed `refresh_hz` times a second, each frame

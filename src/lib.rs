@@ -16,7 +16,8 @@
 //!
 //! Modules: [`acuity`] (the model), [`csf`] (contrast sensitivity and its
 //! calibration), [`display`], [`camera`], [`select`] (the per-frame loop),
-//! [`schedule`] (fixed frame rate), [`profile`] (the file format).
+//! [`schedule`] (fixed frame rate), [`stereo`] (one selection for both
+//! eyes of a headset), [`profile`] (the file format).
 //!
 //! Features: `json` (JSON profiles), `parallel` (the selection loop on
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
@@ -38,12 +39,13 @@ pub mod profile;
 pub mod rows;
 pub mod schedule;
 pub mod select;
+pub mod stereo;
 mod viewpoints;
 
 pub use crate::acuity::{Components, EccentricityModel, VelocityModel};
 pub use crate::camera::{Camera, Gaze, Tracker};
 pub use crate::csf::{Observer, Photometry};
-pub use crate::display::Display;
+pub use crate::display::{Display, FovEdges};
 pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
@@ -51,6 +53,7 @@ pub use crate::select::{
     BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,
 };
+pub use crate::stereo::{Eye, StereoRig};
 
 /// A small valid profile for documentation examples.
 #[doc(hidden)]

@@ -7,7 +7,7 @@ use glam::{DVec3, Mat3, Quat, Vec3};
 use crate::acuity::{EccentricityModel, MAX_ACUITY_CPD, VelocityModel};
 use crate::camera::Tracker;
 use crate::csf::Csf;
-use crate::display::Display;
+use crate::display::{Display, FovEdges};
 use crate::error::{Error, Result};
 use crate::fastmath;
 use crate::viewpoints::{self, ViewpointLookup};
@@ -33,6 +33,8 @@ pub(super) struct FrameConsts<'a> {
     pub(super) world_velocity: bool,
     pub(super) eye_to_world: Mat3,
     pub(super) margin_deg: f32,
+    /// [`SelectorSettings::radius_margin`], sanitised: finite and `>= 0`.
+    pub(super) radius_margin: f32,
     pub(super) scale: f32,
     pub(super) fill_deg: f32,
     pub(super) dt_valid: bool,
@@ -67,15 +69,7 @@ pub(super) fn frame_consts<'a>(
     let gaze_rot = Quat::from_rotation_arc(Vec3::NEG_Z, gaze_cam);
     let world_to_eye = Mat3::from_quat(cam_rot * gaze_rot).transpose();
     let eye_from_cam = Mat3::from_quat(gaze_rot).transpose();
-    let [fov_h, fov_v] = display.fov_deg();
-    let (sh, ch) = (0.5 * fov_h).to_radians().sin_cos();
-    let (sv, cv) = (0.5 * fov_v).to_radians().sin_cos();
-    let planes_cam = [
-        Vec3::new(ch, 0.0, sh),
-        Vec3::new(-ch, 0.0, sh),
-        Vec3::new(0.0, cv, sv),
-        Vec3::new(0.0, -cv, sv),
-    ];
+    let planes_cam = side_planes(display.fov_edges());
     let dt = frame.dt_s;
     let dt_valid = dt.is_finite() && dt > 0.0 && dt <= 1e6;
     let tau = settings.velocity_time_constant_s;
@@ -102,6 +96,11 @@ pub(super) fn frame_consts<'a>(
         world_velocity: settings.eyes_counter_rotate && frame.gaze.tracker == Tracker::Head,
         eye_to_world: world_to_eye.transpose(),
         margin_deg,
+        radius_margin: if settings.radius_margin.is_finite() && settings.radius_margin > 0.0 {
+            settings.radius_margin
+        } else {
+            0.0
+        },
         scale,
         fill_deg: display.filling_angular_size_deg(),
         dt_valid,
@@ -130,6 +129,23 @@ pub(super) fn motion_floor_cpd(display: &Display, settings: &SelectorSettings) -
         (Some(hz), Ok(csf)) => MAX_ACUITY_CPD * csf.sampled_motion_floor(display.photometry(), hz),
         _ => 0.0,
     }
+}
+
+/// The outward normals of the four side planes of a field of view, camera
+/// frame (-Z forward): a direction `d` lies beyond an edge when `n . d >
+/// 0`. The right edge at angle `a` has `n = (cos a, 0, sin a)`, so `n . d
+/// = sin(theta - a)` for `d` at `theta` to the right; the others likewise.
+fn side_planes(edges: FovEdges) -> [Vec3; 4] {
+    let (sr, cr) = edges.right_deg.to_radians().sin_cos();
+    let (sl, cl) = edges.left_deg.to_radians().sin_cos();
+    let (su, cu) = edges.up_deg.to_radians().sin_cos();
+    let (sd, cd) = edges.down_deg.to_radians().sin_cos();
+    [
+        Vec3::new(cr, 0.0, sr),
+        Vec3::new(-cl, 0.0, -sl),
+        Vec3::new(0.0, cu, su),
+        Vec3::new(0.0, -cd, -sd),
+    ]
 }
 
 pub(super) fn checked_scale(scale: f32) -> Result<f32> {

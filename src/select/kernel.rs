@@ -162,7 +162,7 @@ fn cull_block<const CULL: bool, const NEAREST: bool>(
         let py = m.x_axis.y * rx + m.y_axis.y * ry + m.z_axis.y * rz;
         let pz = m.x_axis.z * rx + m.y_axis.z * ry + m.z_axis.z * rz;
         let d2 = px * px + py * py + pz * pz;
-        let r = b.radius[i];
+        let r = b.radius[i] + c.radius_margin;
         if NEAREST {
             let q = [0, 1, 2, 3].map(|a| b.rotation[a][i]);
             let d = to_object_frame(q, [rx, ry, rz]);
@@ -234,7 +234,7 @@ pub(super) fn kernel<const VELOCITY: bool, const ECCENTRICITY: bool, const NEARE
         }
         for i in 0..BLOCK {
             bb.index[i] = (base + i) as u32;
-            bb.radius[i] = block.radius[i];
+            bb.radius[i] = block.radius[i] + c.radius_margin;
             bb.row0[i] = block.row0[i];
         }
         if let Some(b) = budget.as_deref_mut() {

@@ -190,6 +190,13 @@ pub struct SelectorSettings {
     /// any value not > 0: never; [`SACCADE_THRESHOLD_DEG_PER_S`] is the
     /// usual detection threshold.
     pub saccade_threshold_deg_per_s: f32,
+    /// Added to every object's bounding radius when it is selected, world
+    /// units: a sphere grown by the distance between the selecting camera
+    /// and any eye that sees the frame holds everything that eye sees of
+    /// the object, larger and nearer the gaze. [`crate::StereoRig`] sets it
+    /// to the larger eye offset, so one selection is right for both eyes.
+    /// Any value not finite and `> 0` counts as 0 (the default).
+    pub radius_margin: f32,
 }
 
 /// A gaze speed that only saccades reach, deg/s (smooth pursuit stays
@@ -227,6 +234,7 @@ impl Default for SelectorSettings {
             velocity_model: VelocityModel::default(),
             eyes_counter_rotate: true,
             saccade_threshold_deg_per_s: f32::INFINITY,
+            radius_margin: 0.0,
         }
     }
 }
