@@ -326,26 +326,61 @@ pub fn screen_angles_to_direction(angles_deg: DVec2) -> DVec3 {
 }
 
 /// Where a camera-space direction (-Z forward) lands in an image of
-/// `resolution_px` covering `fov_deg` under a perspective projection, in
-/// pixels: origin at the top-left corner, x right, y down, the view axis at
-/// `(w/2, h/2)`. Directions off screen give coordinates outside the image;
-/// one more than 89 deg off the view axis (or behind) is taken at 89 deg; a
-/// zero or non-finite direction gives the centre.
+/// `resolution_px` covering `fov_deg` (symmetric about the view axis)
+/// under a perspective projection, in pixels:
+/// [`direction_to_pixel_in_edges`] of the symmetric edges.
 pub fn direction_to_pixel(
     direction_camera: DVec3,
     resolution_px: [u32; 2],
     fov_deg: [f64; 2],
 ) -> [f64; 2] {
+    let [h, v] = fov_deg.map(|a| 0.5 * a);
+    direction_to_pixel_in_edges(direction_camera, resolution_px, [-h, h, v, -v])
+}
+
+/// Where a camera-space direction (-Z forward) lands in an image of
+/// `resolution_px` whose field of view has the edges `edges_deg` (left,
+/// right, up, down, signed as [`FovEdges`]) under a perspective
+/// projection, in pixels: origin at the top-left corner, x right, y down.
+/// Directions off screen give coordinates outside the image; one more than
+/// 89 deg off the view axis (or behind) is taken at 89 deg; a zero or
+/// non-finite direction gives the view axis.
+pub fn direction_to_pixel_in_edges(
+    direction_camera: DVec3,
+    resolution_px: [u32; 2],
+    edges_deg: [f64; 4],
+) -> [f64; 2] {
     let [w, h] = resolution_px.map(f64::from);
+    let [left, right, up, down] = edges_deg.map(|a| a.to_radians().tan());
     let lateral = direction_camera.x.hypot(direction_camera.y);
     let min_forward = lateral * (90.0 - MAX_SCREEN_ANGLE_DEG).to_radians().tan();
     let forward = (-direction_camera.z).max(min_forward);
-    if !(forward.is_finite() && forward > 0.0) {
-        return [0.5 * w, 0.5 * h];
-    }
-    let tx = direction_camera.x / forward / half_tan(fov_deg[0]);
-    let ty = direction_camera.y / forward / half_tan(fov_deg[1]);
-    [0.5 * w * (1.0 + tx), 0.5 * h * (1.0 - ty)]
+    let (sx, sy) = if forward.is_finite() && forward > 0.0 {
+        (direction_camera.x / forward, direction_camera.y / forward)
+    } else {
+        (0.0, 0.0)
+    };
+    [
+        w * ((sx - left) / (right - left)),
+        h * ((up - sy) / (up - down)),
+    ]
+}
+
+/// The perspective projection (wgpu clip conventions: right-handed, -Z
+/// forward, depth 0 at `near` and 1 at infinity) of a field of view with
+/// the edges `edges_deg` (left, right, up, down, signed as [`FovEdges`]),
+/// as the columns of a 4x4 matrix. Symmetric edges give the usual
+/// infinite projection with separate x and y scales.
+pub fn projection_columns(edges_deg: [f64; 4], near: f64) -> [[f64; 4]; 4] {
+    let [left, right, up, down] = edges_deg.map(|a| a.to_radians().tan());
+    let (sx, sy) = (2.0 / (right - left), 2.0 / (up - down));
+    let (ox, oy) = ((right + left) / (right - left), (up + down) / (up - down));
+    [
+        [sx, 0.0, 0.0, 0.0],
+        [0.0, sy, 0.0, 0.0],
+        [ox, oy, -1.0, -1.0],
+        [0.0, 0.0, -near, 0.0],
+    ]
 }
 
 #[cfg(test)]
@@ -376,5 +411,38 @@ mod tests {
         assert!(Display::from_physical([1280, 1024], [40.0, 30.0], 0.0).is_err());
         assert!(Display::from_physical([1280, 1024], [-1.0, 30.0], 40.0).is_err());
         assert!(Display::new([1280, 1024], [179.9, 0.001]).is_ok());
+    }
+
+    #[test]
+    fn asymmetric_edges_project_to_the_image_edges() {
+        let edges = [-54.0, 50.0, 52.0, -40.0];
+        let cols = projection_columns(edges, 0.1);
+        let project = |d: DVec3| {
+            let clip =
+                [0, 1, 3].map(|r| (0..3).map(|c| cols[c][r] * [d.x, d.y, d.z][c]).sum::<f64>());
+            [clip[0] / clip[2], clip[1] / clip[2]]
+        };
+        let at = |x_deg: f64, y_deg: f64| screen_angles_to_direction(DVec2::new(x_deg, y_deg));
+        for (d, ndc) in [
+            (at(-54.0, 0.0), [-1.0, f64::NAN]),
+            (at(50.0, 0.0), [1.0, f64::NAN]),
+            (at(0.0, 52.0), [f64::NAN, 1.0]),
+            (at(0.0, -40.0), [f64::NAN, -1.0]),
+        ] {
+            let p = project(d);
+            for k in 0..2 {
+                assert!(
+                    ndc[k].is_nan() || (p[k] - ndc[k]).abs() < 1e-9,
+                    "{p:?} vs {ndc:?}"
+                );
+            }
+        }
+        let px = direction_to_pixel_in_edges(at(-54.0, 52.0), [1000, 800], edges);
+        assert!(px[0].abs() < 1e-9 && px[1].abs() < 1e-9, "{px:?}");
+        let px = direction_to_pixel_in_edges(at(50.0, -40.0), [1000, 800], edges);
+        assert!(
+            (px[0] - 1000.0).abs() < 1e-9 && (px[1] - 800.0).abs() < 1e-9,
+            "{px:?}"
+        );
     }
 }

@@ -64,6 +64,8 @@ pub struct FrameDump {
     root: PathBuf,
     resolution_px: [u32; 2],
     fov_deg: [f64; 2],
+    /// Left, right, up, down, deg ([`DisplaySpec::fov_edges_deg`]).
+    fov_edges_deg: [f64; 4],
     /// Peak luminance (cd/m²), contrast ratio and ambient light (lux): the
     /// scene's display photometry, as the selection used it.
     photometry: [f64; 3],
@@ -80,6 +82,7 @@ impl FrameDump {
             root: root.to_owned(),
             resolution_px: display.resolution_px,
             fov_deg: display.fov_deg,
+            fov_edges_deg: display.fov_edges_deg,
             photometry: [
                 display.peak_luminance_cd_m2,
                 display.contrast_ratio,
@@ -92,7 +95,11 @@ impl FrameDump {
 
     /// The gaze point of a frame, in pixels ([`gaze_pixel`]).
     pub fn gaze_pixel(&self, gaze_camera: DVec3) -> [f64; 2] {
-        gaze_pixel(gaze_camera, self.resolution_px, self.fov_deg)
+        acuity::display::direction_to_pixel_in_edges(
+            gaze_camera,
+            self.resolution_px,
+            self.fov_edges_deg,
+        )
     }
 
     /// Writes frame `frame` of `sequence` (RGBA8 sRGB, alpha dropped) and

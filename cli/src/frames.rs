@@ -10,11 +10,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use acuity::display::projection_scale;
+use acuity::display::projection_columns;
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
 use acuity_render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
-use glam::{DMat4, DQuat, DVec3, Mat4, Vec4};
+use glam::{DMat4, DQuat, DVec3, Mat4};
 
 use crate::limits::check_scene_triangles;
 use crate::placement::Placement;
@@ -146,8 +146,13 @@ pub struct World {
     pub objects: Vec<WorldObject>,
     /// Every instance, objects in scene order and copies in index order.
     pub instances: Vec<Instance>,
-    /// The runtime's view of the display.
+    /// The display selection runs over (for a headset, both eyes').
     pub display: Display,
+    /// The radius margin selection needs ([`acuity::SelectorSettings::radius_margin`]):
+    /// for a headset, the eyes' offset from the head; else 0.
+    pub radius_margin: f32,
+    /// The display frames are rendered for (for a headset, the left eye).
+    pub eye_display: Display,
     /// Seconds spent making or loading profiles.
     pub profile_time_s: f64,
 }
@@ -221,12 +226,12 @@ impl World {
                 .unwrap_or(Path::new("."))
                 .join(".acuity-cache")
         });
-        let [w, h] = scene.display.resolution_px;
-        let [fh, fv] = scene.display.fov_deg;
-        let display = Display::new([w, h], [fh as f32, fv as f32])
-            .and_then(|d| d.with_photometry(scene.display.photometry()?))
-            .and_then(|d| d.with_refresh_hz(scene.display.refresh_hz.map(|hz| hz as f32)))
+        let displays = scene
+            .display
+            .eye_display()
+            .and_then(|eye| Ok((eye, scene.display.selection_display()?)))
             .with_context(|| format!("{}: display", scene.source_path.display()))?;
+        let (eye_display, (display, radius_margin)) = displays;
         let sources = scene
             .objects
             .iter()
@@ -300,6 +305,8 @@ impl World {
             objects,
             instances,
             display,
+            radius_margin,
+            eye_display,
             profile_time_s: started.elapsed().as_secs_f64(),
         })
     }
@@ -379,23 +386,21 @@ impl World {
     }
 
     /// World to clip (wgpu conventions) for a camera at the origin with the
-    /// view's orientation: the full field of view of the display maps to
-    /// the image, with an infinite far plane.
+    /// view's orientation: the display's field of view (its edges, so an
+    /// asymmetric eye's too) maps to the image, with an infinite far plane
+    /// ([`acuity::display::projection_columns`]; separate x and y scales,
+    /// so non-square pixels keep the display's field of view).
     pub fn view_proj(&self, view: &FrameView) -> Mat4 {
-        let [fh, fv] = self.scene.display.fov_deg;
-        let sx = projection_scale(fh) as f32;
-        let sy = projection_scale(fv) as f32;
-        // Right-handed, looking along -Z, depth 0 at the near plane and 1
-        // at infinity (glam's `perspective_infinite_rh` with separate x and
-        // y scales, so non-square pixels keep the display's field of view).
-        let proj = Mat4::from_cols(
-            Vec4::new(sx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, sy, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, -1.0, -1.0),
-            Vec4::new(0.0, 0.0, -NEAR_PLANE_M, 0.0),
-        );
+        let columns = projection_columns(self.scene.display.fov_edges_deg, f64::from(NEAR_PLANE_M));
+        let proj = Mat4::from_cols_array_2d(&columns.map(|c| c.map(|x| x as f32)));
         let view_rot = Mat4::from_quat(view.orientation.inverse().as_quat());
         proj * view_rot
+    }
+
+    /// Where the rendered eye is for a view: the camera, or for a headset
+    /// the left eye beside it.
+    pub fn rendered_eye_m(&self, view: &FrameView) -> DVec3 {
+        view.eye_m + view.orientation * self.scene.display.rendered_eye_offset_m()
     }
 
     /// Renders a view with `lods[i]` the LOD of instance `i` (`None`: not
@@ -403,6 +408,7 @@ impl World {
     /// with one instanced draw call.
     pub fn render(&self, view: &FrameView, lods: &[Option<usize>]) -> anyhow::Result<RenderOutput> {
         let mut draws: Vec<(MeshId, Mat4)> = Vec::with_capacity(lods.len());
+        let eye_m = self.rendered_eye_m(view);
         for (inst, lod) in self.instances.iter().zip(lods) {
             let Some(lod) = *lod else { continue };
             let o = &self.objects[inst.object];
@@ -413,7 +419,7 @@ impl World {
             let m = DMat4::from_scale_rotation_translation(
                 DVec3::splat(p.scale),
                 p.rotation,
-                p.position_m - view.eye_m,
+                p.position_m - eye_m,
             );
             draws.push((mesh, m.as_mat4()));
         }
@@ -429,8 +435,8 @@ impl World {
         Ok(out)
     }
 
-    /// Pixels per degree of the display, for FLIP.
+    /// Pixels per degree of the rendered frames, for FLIP.
     pub fn pixels_per_degree(&self) -> f32 {
-        self.display.pixels_per_degree()
+        self.eye_display.pixels_per_degree()
     }
 }

@@ -85,6 +85,7 @@ impl PolicyRunner {
                 .gaze
                 .saccade_threshold_deg_per_s
                 .map_or(f32::INFINITY, |v| v as f32),
+            radius_margin: world.radius_margin,
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);
@@ -206,7 +207,7 @@ impl PolicyRunner {
             None => self.selector.select(&frame)?,
         }
         lods.clear();
-        let fov_v = world.scene.display.fov_deg[1];
+        let fov_v = world.scene.display.screen_height_fov_deg();
         for (inst, id) in world.instances.iter().zip(&self.ids) {
             let sel = self.selector.selection(*id);
             let lod = match self.policy {

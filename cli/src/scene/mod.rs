@@ -192,8 +192,20 @@ pub struct DisplaySpec {
     /// Width and height, pixels (each in `1..=MAX_RESOLUTION_PX`).
     pub resolution_px: [u32; 2],
     /// Horizontal and vertical field of view, degrees (each in (0, 180)).
-    /// Computed from `physical` when the file gives a screen size.
+    /// Computed from `physical` or from `fov_edges_deg` when the file gives
+    /// either.
     pub fov_deg: [f64; 2],
+    /// The field's edges, deg from the view axis: left, right, up, down
+    /// (left and down negative when the axis is inside), each within
+    /// `±acuity::display::MAX_EDGE_DEG`. Symmetric (`±fov_deg / 2`) unless
+    /// the file gives `fov_edges_deg`.
+    pub fov_edges_deg: [f64; 4],
+    /// A headset's interpupillary distance, metres (`stereo_ipd_m`, 0 to
+    /// 1): the display is then one eye of two, `resolution` and the edges
+    /// the left eye's, the right eye its mirror image. One selection serves
+    /// both eyes ([`acuity::StereoRig`]); frames are rendered and measured
+    /// for the left eye.
+    pub stereo_ipd_m: Option<f64>,
     /// The physical screen, when the file gave one.
     pub physical: Option<PhysicalScreen>,
     /// Luminance of peak white, cd/m² (default 200: an office monitor).
@@ -218,6 +230,59 @@ impl DisplaySpec {
             self.contrast_ratio as f32,
             self.ambient_lux as f32,
         )
+    }
+
+    /// The display an eye sees (for a headset, the left eye), as the
+    /// runtime takes it.
+    pub fn eye_display(&self) -> acuity::Result<acuity::Display> {
+        let [left_deg, right_deg, up_deg, down_deg] = self.fov_edges_deg.map(|a| a as f32);
+        let edges = acuity::FovEdges {
+            left_deg,
+            right_deg,
+            up_deg,
+            down_deg,
+        };
+        acuity::Display::with_fov_edges(self.resolution_px, edges)?
+            .with_photometry(self.photometry()?)?
+            .with_refresh_hz(self.refresh_hz.map(|hz| hz as f32))
+    }
+
+    /// The display selection runs over and the radius margin it needs:
+    /// [`DisplaySpec::eye_display`] with no margin, or for a headset the
+    /// [`acuity::StereoRig`] of both eyes.
+    pub fn selection_display(&self) -> acuity::Result<(acuity::Display, f32)> {
+        let eye = self.eye_display()?;
+        match self.stereo_ipd_m {
+            None => Ok((eye, 0.0)),
+            Some(ipd) => {
+                let e = eye.fov_edges();
+                let mirrored = acuity::FovEdges {
+                    left_deg: -e.right_deg,
+                    right_deg: -e.left_deg,
+                    ..e
+                };
+                let right = acuity::Display::with_fov_edges(self.resolution_px, mirrored)?
+                    .with_photometry(*eye.photometry())?
+                    .with_refresh_hz(eye.refresh_hz())?;
+                let rig = acuity::StereoRig::from_ipd(eye, right, ipd as f32)?;
+                Ok((rig.selection_display()?, rig.radius_margin()))
+            }
+        }
+    }
+
+    /// Where the rendered eye sits relative to the head (the camera),
+    /// head frame, metres: half the IPD to the left for a headset, else
+    /// nowhere else.
+    pub fn rendered_eye_offset_m(&self) -> glam::DVec3 {
+        glam::DVec3::new(-0.5 * self.stereo_ipd_m.unwrap_or(0.0), 0.0, 0.0)
+    }
+
+    /// The vertical field of view a symmetric display of the same image
+    /// height per unit distance would have, deg: what screen-size
+    /// thresholds (fractions of the screen's height) measure against.
+    pub fn screen_height_fov_deg(&self) -> f64 {
+        let [_, _, up, down] = self.fov_edges_deg.map(|a| a.to_radians().tan());
+        2.0 * (0.5 * (up - down)).atan().to_degrees()
     }
 
     /// Pixels per degree along the axis with the most (the display's

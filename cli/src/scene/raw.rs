@@ -30,6 +30,8 @@ pub(super) struct RawScene {
 pub(super) struct RawDisplay {
     pub(super) resolution: Exact<u32, 2>,
     pub(super) fov_deg: Option<Exact<f64, 2>>,
+    pub(super) fov_edges_deg: Option<Exact<f64, 4>>,
+    pub(super) stereo_ipd_m: Option<f64>,
     pub(super) screen_cm: Option<Exact<f64, 2>>,
     pub(super) distance_cm: Option<f64>,
     pub(super) peak_luminance_cd_m2: Option<f64>,

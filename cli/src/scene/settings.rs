@@ -69,7 +69,19 @@ impl Ctx<'_> {
                 ));
             }
         }
-        let given = (d.fov_deg.map(|f| f.0), d.screen_cm.map(|s| s.0));
+        let edges = d.fov_edges_deg.map(|e| e.0);
+        if edges.is_some() && (d.fov_deg.is_some() || d.screen_cm.is_some()) {
+            return Err(self.invalid(
+                "display.fov_edges_deg",
+                "give one of fov_deg, fov_edges_deg or screen_cm + distance_cm",
+            ));
+        }
+        let given = (
+            d.fov_deg
+                .map(|f| f.0)
+                .or(edges.map(|[l, r, u, dn]| [r - l, u - dn])),
+            d.screen_cm.map(|s| s.0),
+        );
         let (fov_deg, physical) = match (given.0, given.1, d.distance_cm) {
             (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
                 return Err(self.invalid(
@@ -114,21 +126,57 @@ impl Ctx<'_> {
             (None, None, None) => {
                 return Err(self.invalid(
                     "display.fov_deg",
-                    "missing: give fov_deg = [horizontal, vertical] or screen_cm + distance_cm",
+                    "missing: give fov_deg = [horizontal, vertical], fov_edges_deg = [left, right, up, down] or screen_cm + distance_cm",
                 ));
             }
         };
         for (k, &f) in fov_deg.iter().enumerate() {
             if !(f > 0.0 && f < 180.0) {
-                return Err(self.invalid(
-                    format!("display.fov_deg[{k}]"),
-                    format!("{f} deg must be in (0, 180)"),
-                ));
+                return Err(match edges {
+                    Some(e) => self.invalid(
+                        "display.fov_edges_deg",
+                        format!(
+                            "{e:?} is {f} deg {}, not in (0, 180): [left, right, up, down] needs right > left and up > down",
+                            ["wide", "high"][k]
+                        ),
+                    ),
+                    None => self.invalid(
+                        format!("display.fov_deg[{k}]"),
+                        format!("{f} deg must be in (0, 180)"),
+                    ),
+                });
             }
+        }
+        let max_edge = f64::from(acuity::display::MAX_EDGE_DEG);
+        let fov_edges_deg = match edges {
+            Some(e) => {
+                for (k, &a) in e.iter().enumerate() {
+                    if !(-max_edge..=max_edge).contains(&a) {
+                        return Err(self.invalid(
+                            format!("display.fov_edges_deg[{k}]"),
+                            format!("{a} deg is outside [-{max_edge}, {max_edge}]"),
+                        ));
+                    }
+                }
+                e
+            }
+            None => [
+                -0.5 * fov_deg[0],
+                0.5 * fov_deg[0],
+                0.5 * fov_deg[1],
+                -0.5 * fov_deg[1],
+            ],
+        };
+        if let Some(ipd) = d.stereo_ipd_m
+            && !(0.0..=1.0).contains(&ipd)
+        {
+            return Err(self.invalid("display.stereo_ipd_m", format!("{ipd} m is outside [0, 1]")));
         }
         let spec = DisplaySpec {
             resolution_px: resolution,
             fov_deg,
+            fov_edges_deg,
+            stereo_ipd_m: d.stereo_ipd_m,
             physical,
             peak_luminance_cd_m2: d.peak_luminance_cd_m2.unwrap_or(200.0),
             contrast_ratio: d.contrast_ratio.unwrap_or(1000.0),

@@ -80,3 +80,54 @@ fn nan_is_refused_where_it_stands() {
     assert_eq!(e.field(), Some("camera.duration_s"), "{e}");
     assert_eq!(e.line(), Some(11));
 }
+
+#[test]
+fn a_headset_eye_gives_its_edges_and_both_eyes_select_together() {
+    let text = MINIMAL.replace(
+        "fov_deg = [43.6, 33.4]",
+        "fov_edges_deg = [-54, 50, 52, -52]\nstereo_ipd_m = 0.064",
+    );
+    let s = Scene::parse(&text, "x.toml").unwrap();
+    assert_eq!(s.display.fov_deg, [104.0, 104.0]);
+    assert_eq!(s.display.fov_edges_deg, [-54.0, 50.0, 52.0, -52.0]);
+    let (both, margin) = s.display.selection_display().unwrap();
+    assert_eq!(both.fov_deg(), [108.0, 104.0]);
+    assert!((margin - 0.032).abs() < 1e-7);
+    assert_eq!(s.display.eye_display().unwrap().fov_edges().left_deg, -54.0);
+    assert_eq!(
+        s.display.rendered_eye_offset_m(),
+        glam::DVec3::new(-0.032, 0.0, 0.0)
+    );
+    // A symmetric display's edges, and no stereo.
+    let m = Scene::parse(MINIMAL, "x.toml").unwrap();
+    assert_eq!(m.display.fov_edges_deg, [-21.8, 21.8, 16.7, -16.7]);
+    assert_eq!(m.display.selection_display().unwrap().1, 0.0);
+}
+
+#[test]
+fn bad_edges_and_ipd_are_named() {
+    for (replacement, field) in [
+        (
+            "fov_edges_deg = [-54, 50, 52, -52]\nfov_deg = [1, 1]",
+            "display.fov_edges_deg",
+        ),
+        (
+            "fov_edges_deg = [-95, 50, 52, -52]",
+            "display.fov_edges_deg[0]",
+        ),
+        ("fov_edges_deg = [10, 5, 52, -52]", "display.fov_edges_deg"),
+        ("fov_edges_deg = [-10, 5, 52]", "display.fov_edges_deg"),
+        (
+            "fov_deg = [43.6, 33.4]\nstereo_ipd_m = -0.01",
+            "display.stereo_ipd_m",
+        ),
+        (
+            "fov_deg = [43.6, 33.4]\nstereo_ipd_m = nan",
+            "display.stereo_ipd_m",
+        ),
+    ] {
+        let text = MINIMAL.replace("fov_deg = [43.6, 33.4]", replacement);
+        let e = Scene::parse(&text, "x.toml").unwrap_err();
+        assert_eq!(e.field(), Some(field), "{replacement}: {e}");
+    }
+}
