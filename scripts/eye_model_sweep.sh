@@ -48,3 +48,9 @@ for rate in 0 30 60 120 200; do
   done
 done
 column -s, -t "$out/sweep.csv"
+for eyes in counter_rotate fixed_in_head; do
+  for y in share jod; do
+    "$acuity" plot "$out/sweep.csv" --x rate_deg_per_s --y "$y" --group policy,knob \
+      --filter "eyes=$eyes" --title "$y, eyes $eyes" --out "$out/sweep_${y}_$eyes.png"
+  done
+done

@@ -20,7 +20,8 @@
 //!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
-//!   run`; [`experiment`]: `acuity experiment`.
+//!   run`; [`experiment`]: `acuity experiment`; [`plot_csv`]: `acuity
+//!   plot` (a plot of any two columns of a CSV).
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
 
@@ -36,6 +37,7 @@ pub mod path;
 pub mod placement;
 pub mod player;
 pub mod plot;
+pub mod plot_csv;
 pub mod policy;
 pub mod preprocess;
 pub mod profiles;

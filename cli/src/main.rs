@@ -32,6 +32,8 @@ enum Command {
     Run(acuity_cli::run::RunArgs),
     /// The reference experiments of Reddy 1998 §5.
     Experiment(acuity_cli::experiment::ExperimentArgs),
+    /// A PNG line plot of two columns of a CSV, one line per group of rows.
+    Plot(acuity_cli::plot_csv::PlotArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -118,6 +120,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => return acuity_cli::run::command(&args),
         Command::Experiment(args) => return acuity_cli::experiment::command(&args),
+        Command::Plot(args) => return acuity_cli::plot_csv::command(&args),
         Command::Preprocess(args) => {
             return acuity_cli::preprocess::finish(acuity_cli::preprocess::run(&args));
         }
