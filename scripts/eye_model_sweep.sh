@@ -9,7 +9,8 @@
 # runs `acuity experiment error` at s = 1 for every acuity component set,
 # with screen size at two biases, scored by FovVideoVDP; the rows are
 # gathered into OUT/sweep.csv (rate, eyes, policy, knob, triangles, share of
-# full detail, JOD, LOD switches per second).
+# full detail, JOD, LOD switches per second), and plots of share and JOD
+# against the rate (OUT/sweep_*.png).
 #
 # Usage: scripts/eye_model_sweep.sh [OUT]   (default out/eye-model-sweep)
 # Needs a release build (`cargo build --release`) and ACUITY_PYTHON
