@@ -28,6 +28,8 @@ mod arrays;
 pub mod dump;
 pub mod experiment;
 pub mod flip;
+pub mod foveate;
+pub mod fractal;
 pub mod frames;
 pub mod gaze;
 pub mod limits;
