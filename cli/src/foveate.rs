@@ -152,6 +152,13 @@ impl View {
             velocity_model: VelocityModel::Reddy2001,
         }
     }
+
+    /// Checks the view against a `width` x `height` image: the field of
+    /// view in `(0, 360] x (0, 180]` deg, the gaze within the image, the
+    /// velocity finite and `>= 0`, the scale in `(0, 1]`.
+    pub fn validate(&self, width: usize, height: usize) -> Result<(), FoveateError> {
+        Geometry::new(width, height, self).map(|_| ())
+    }
 }
 
 /// Standard deviation in pixels of the Gaussian whose cut-off is
@@ -320,12 +327,12 @@ const REDUCE_VARIANCE: f32 = 1.25;
 /// passes more than half, above it falls less steeply than the target
 /// (frequencies the model calls invisible anyway, left at reduced
 /// contrast); the half-octave spacing keeps that difference small.
-pub struct Pyramid {
-    levels: Vec<Level>,
+pub struct Pyramid<'a> {
+    levels: Vec<Level<'a>>,
 }
 
-struct Level {
-    image: Image,
+struct Level<'a> {
+    image: std::borrow::Cow<'a, Image>,
     /// log2 of the reduction factor.
     octave: u32,
     /// Blur variance read back at full resolution, px^2.
@@ -336,11 +343,12 @@ struct Level {
 const SMOOTH: [f32; 3] = [0.25, 0.5, 0.25];
 const SMOOTH_VARIANCE: f32 = 0.5;
 
-impl Pyramid {
-    /// Builds the pyramid of a valid image.
-    pub fn new(image: &Image) -> Self {
+impl<'a> Pyramid<'a> {
+    /// Builds the pyramid of a valid image (borrowed as its level 0).
+    pub fn new(image: &'a Image) -> Self {
+        use std::borrow::Cow;
         let mut levels = Vec::new();
-        let mut octave = image.clone();
+        let mut octave = Cow::Borrowed(image);
         let mut l = 0u32;
         loop {
             let p = 4f32.powi(l as i32);
@@ -353,12 +361,12 @@ impl Pyramid {
                 variance: base,
             });
             levels.push(Level {
-                image: smoothed,
+                image: Cow::Owned(smoothed),
                 octave: l,
                 variance: base + SMOOTH_VARIANCE * p,
             });
             match next {
-                Some(n) => octave = n,
+                Some(n) => octave = Cow::Owned(n),
                 None => break,
             }
             l += 1;

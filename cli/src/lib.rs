@@ -21,10 +21,13 @@
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`.
+//! - [`foveate`]: the acuity image filter (Reddy 2001, Fig. 5), pure;
+//!   [`blur`]: `acuity blur`; [`fractal`]: seeded fractal noise.
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
 
 mod arrays;
+pub mod blur;
 pub mod dump;
 pub mod experiment;
 pub mod flip;

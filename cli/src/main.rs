@@ -32,6 +32,9 @@ enum Command {
     Run(acuity_cli::run::RunArgs),
     /// The reference experiments of Reddy 1998 §5.
     Experiment(acuity_cli::experiment::ExperimentArgs),
+    /// Remove from an image the detail the acuity model predicts a viewer
+    /// cannot see at a gaze point and velocity (Reddy 2001, Fig. 5).
+    Blur(acuity_cli::blur::BlurArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -118,6 +121,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => return acuity_cli::run::command(&args),
         Command::Experiment(args) => return acuity_cli::experiment::command(&args),
+        Command::Blur(args) => return acuity_cli::blur::command(&args),
         Command::Preprocess(args) => {
             return acuity_cli::preprocess::finish(acuity_cli::preprocess::run(&args));
         }
