@@ -16,7 +16,8 @@
 //!
 //! Modules: [`acuity`] (the model), [`csf`] (contrast sensitivity and its
 //! calibration), [`display`], [`camera`], [`select`] (the per-frame loop),
-//! [`schedule`] (fixed frame rate), [`profile`] (the file format).
+//! [`schedule`] (fixed frame rate), [`profile`] (the file format),
+//! [`terrain`] (view-dependent terrain refined by the same model).
 //!
 //! Features: `json` (JSON profiles), `parallel` (the selection loop on
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
@@ -38,6 +39,7 @@ pub mod profile;
 pub mod rows;
 pub mod schedule;
 pub mod select;
+pub mod terrain;
 mod viewpoints;
 
 pub use crate::acuity::{Components, EccentricityModel, VelocityModel};
