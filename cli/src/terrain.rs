@@ -1,0 +1,350 @@
+//! `acuity terrain`: Reddy 2001's Table 1 on acuity's view-dependent
+//! terrain ([`acuity::terrain`]): the recorded flight over the procedural
+//! valley ([`crate::flight`]) refined under six combinations of criteria,
+//! with the average triangles and refinement time per frame beside the
+//! paper's numbers, as a printed table, CSV and bar plots.
+//!
+//! Measured here: the refinement (the quadtree walk and the crack-free
+//! triangulation, on one core). Not measured: drawing the triangles; the
+//! paper's frame times (SGI O2, 1999) included drawing and are given for
+//! reference only.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
+use acuity::{Components, EccentricityModel, VelocityModel};
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::barplot::{BarPlot, save_bar_plot};
+use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
+
+/// Arguments of `acuity terrain`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TerrainArgs {
+    /// Output folder.
+    #[arg(long, default_value = "out/terrain")]
+    pub out: PathBuf,
+    /// Field of view, HORIZxVERT deg (Reddy: 200x135), as azimuth and
+    /// elevation about the view direction.
+    #[arg(long, default_value = "200x135", value_parser = crate::parse::parse_angles)]
+    pub fov: [f32; 2],
+    /// Display resolution, WIDTHxHEIGHT px: with the field of view it sets
+    /// the display limit xi = max(w / (2 h_fov), h / (2 v_fov)).
+    #[arg(long, default_value = "1280x1024", value_parser = crate::parse::parse_resolution)]
+    pub resolution: [u32; 2],
+    /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
+    #[arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution)]
+    pub size: [u32; 2],
+    /// Seed of the procedural terrain.
+    #[arg(long, default_value_t = 2001)]
+    pub seed: u64,
+    /// Frames per second of the flight (the path is the same at any rate).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
+    /// Duration of the flight, s (0.1 to 600).
+    #[arg(long, default_value_t = 20.0)]
+    pub duration: f32,
+    /// Window over which retinal velocity is measured, s: the angle a
+    /// node's direction turned since the camera that long ago (averaging
+    /// over several frames, as Reddy smoothed it).
+    #[arg(long, default_value_t = 0.1)]
+    pub velocity_window: f32,
+    /// Global scale factor s in (0, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f32,
+    /// How acuity falls with eccentricity (the paper's `reddy2001` by
+    /// default here, or `cortical_magnification`).
+    #[arg(long, default_value = "reddy2001")]
+    pub eccentricity_model: EccentricityModel,
+    /// How acuity falls with velocity (`reddy2001` by default here, or
+    /// `kelly1979`).
+    #[arg(long, default_value = "reddy2001")]
+    pub velocity_model: VelocityModel,
+}
+
+/// One row of Table 1: its criteria and the paper's results.
+#[derive(Clone, Copy, Debug)]
+pub struct Row {
+    /// Short name (CSV, plots).
+    pub name: &'static str,
+    /// Size, peripheral (eccentricity) and velocity.
+    pub components: Components,
+    /// Viewport culling.
+    pub viewport_cull: bool,
+    /// The paper's average triangles per frame.
+    pub paper_triangles: u32,
+    /// The paper's average frame time, ms.
+    pub paper_frame_ms: f32,
+}
+
+const fn row(name: &'static str, c: [bool; 4], tris: u32, ms: f32) -> Row {
+    Row {
+        name,
+        components: Components {
+            size: c[0],
+            eccentricity: c[1],
+            velocity: c[2],
+        },
+        viewport_cull: c[3],
+        paper_triangles: tris,
+        paper_frame_ms: ms,
+    }
+}
+
+/// Table 1's six rows (size, peripheral, velocity, viewport cull).
+pub const ROWS: [Row; 6] = [
+    row("none", [false, false, false, false], 1_116_720, 7127.0),
+    row("cull", [false, false, false, true], 449_828, 2517.0),
+    row("size", [true, false, false, true], 59_980, 920.0),
+    row("size+periph", [true, true, false, true], 40_684, 650.0),
+    row("size+velocity", [true, false, true, true], 60_850, 953.0),
+    row("all", [true, true, true, true], 8_964, 161.0),
+];
+
+/// The result of one row over the flight.
+#[derive(Clone, Debug)]
+pub struct RowResult {
+    /// The row.
+    pub row: Row,
+    /// Triangles per frame.
+    pub triangles: Vec<usize>,
+    /// Refinement time per frame, ms.
+    pub refine_ms: Vec<f64>,
+}
+
+impl RowResult {
+    /// Mean triangles per frame.
+    pub fn mean_triangles(&self) -> f64 {
+        mean(self.triangles.iter().map(|&t| t as f64))
+    }
+
+    /// Mean refinement time per frame, ms.
+    pub fn mean_refine_ms(&self) -> f64 {
+        mean(self.refine_ms.iter().copied())
+    }
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// Runs `acuity terrain`; prints the error on one line on failure.
+pub fn command(args: &TerrainArgs) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", crate::error_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(args: &TerrainArgs) -> anyhow::Result<()> {
+    if !(0.1..=600.0).contains(&args.duration) {
+        anyhow::bail!("--duration {} s is outside [0.1, 600]", args.duration);
+    }
+    if !(args.velocity_window > 0.0 && args.velocity_window <= 10.0) {
+        anyhow::bail!(
+            "--velocity-window {} s is outside (0, 10]",
+            args.velocity_window
+        );
+    }
+    let valley = ValleySettings {
+        size: args.size.map(|n| n as usize),
+        seed: args.seed,
+        ..Default::default()
+    };
+    let start = Instant::now();
+    let field = valley.heightfield().context("the procedural terrain")?;
+    let full = field.full_triangles();
+    let terrain = Terrain::new(field);
+    println!(
+        "terrain: {}x{} samples, {full} triangles at full resolution, quadtree of {} levels built in {:.0} ms",
+        args.size[0],
+        args.size[1],
+        terrain.depth(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let flight = Flight {
+        duration_s: args.duration,
+        ..Default::default()
+    };
+    let frames = (args.duration * args.fps as f32).round().max(1.0) as usize;
+    let pose = |t: f32| flight.pose(t, &valley, terrain.heightfield());
+    let poses: Vec<Pose> = (0..frames)
+        .map(|i| pose(i as f32 / args.fps as f32))
+        .collect();
+    let mut views = Vec::with_capacity(frames);
+    for p in &poses {
+        views.push(TerrainView {
+            camera: p.camera()?,
+            previous: Some(pose(p.t_s - args.velocity_window).camera()?),
+            dt_s: args.velocity_window,
+        });
+    }
+    println!(
+        "flight: {frames} frames over {:.1} s, view turning at {:.1} deg/s on average",
+        args.duration,
+        Flight::mean_angular_speed_deg_per_s(&poses)
+    );
+    let [w, h] = args.resolution;
+    let xi = (w as f32 / (2.0 * args.fov[0])).max(h as f32 / (2.0 * args.fov[1]));
+    println!(
+        "display: {w}x{h} px over {}x{} deg, limit xi = {xi:.2} c/deg",
+        args.fov[0], args.fov[1]
+    );
+    let bar = ProgressBar::new((frames * ROWS.len()) as u64);
+    if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} frames  {msg}") {
+        bar.set_style(style);
+    }
+    let mut results = Vec::with_capacity(ROWS.len());
+    let mut mesh = Refinement::new();
+    for row in ROWS {
+        bar.set_message(row.name);
+        let settings = TerrainSettings {
+            components: row.components,
+            viewport_cull: row.viewport_cull,
+            fov_deg: args.fov,
+            display_limit_cpd: xi,
+            scale: args.scale,
+            eccentricity_model: args.eccentricity_model,
+            velocity_model: args.velocity_model,
+        };
+        let mut result = RowResult {
+            row,
+            triangles: Vec::with_capacity(frames),
+            refine_ms: Vec::with_capacity(frames),
+        };
+        for view in &views {
+            let start = Instant::now();
+            terrain.refine(view, &settings, &mut mesh)?;
+            result.refine_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            result.triangles.push(mesh.stats().triangles);
+            bar.inc(1);
+        }
+        results.push(result);
+    }
+    bar.finish_and_clear();
+    print!("{}", format_table(&results, full));
+    write_outputs(&args.out, &results, full, &poses)
+}
+
+/// The table as printed: ours beside the paper's.
+pub fn format_table(results: &[RowResult], full_triangles: usize) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<14} {:>12} {:>8} {:>9} {:>11} {:>15}",
+        "criteria", "triangles", "%", "paper %", "refine ms", "paper frame ms"
+    );
+    for r in results {
+        let tris = r.mean_triangles();
+        let _ = writeln!(
+            t,
+            "{:<14} {:>12.0} {:>7.2}% {:>8.1}% {:>11.3} {:>15.0}",
+            r.row.name,
+            tris,
+            100.0 * tris / full_triangles as f64,
+            100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
+            r.mean_refine_ms(),
+            r.row.paper_frame_ms
+        );
+    }
+    t
+}
+
+fn write_outputs(
+    dir: &Path,
+    results: &[RowResult],
+    full: usize,
+    poses: &[Pose],
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let write = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+    };
+    let mut table = String::from(
+        "criteria,size,peripheral,velocity,viewport_cull,mean_triangles,triangle_percent,mean_refine_ms,p95_refine_ms,paper_triangles,paper_percent,paper_frame_ms\n",
+    );
+    let mut frames = String::from("criteria,frame,triangles,refine_ms\n");
+    for r in results {
+        let c = r.row.components;
+        let tris = r.mean_triangles();
+        let mut sorted = r.refine_ms.clone();
+        sorted.sort_by(f64::total_cmp);
+        let p95 = sorted
+            .get(((sorted.len() as f64 * 0.95) as usize).min(sorted.len().saturating_sub(1)))
+            .copied()
+            .unwrap_or(0.0);
+        let _ = writeln!(
+            table,
+            "{},{},{},{},{},{:.1},{:.4},{:.4},{:.4},{},{:.2},{}",
+            r.row.name,
+            c.size,
+            c.eccentricity,
+            c.velocity,
+            r.row.viewport_cull,
+            tris,
+            100.0 * tris / full as f64,
+            r.mean_refine_ms(),
+            p95,
+            r.row.paper_triangles,
+            100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
+            r.row.paper_frame_ms
+        );
+        for (i, (t, ms)) in r.triangles.iter().zip(&r.refine_ms).enumerate() {
+            let _ = writeln!(frames, "{},{i},{t},{ms:.4}", r.row.name);
+        }
+    }
+    write("table1.csv", table)?;
+    write("frames.csv", frames)?;
+    write("flight.csv", poses_csv(poses))?;
+    let categories: Vec<String> = results.iter().map(|r| r.row.name.to_owned()).collect();
+    save_bar_plot(
+        &BarPlot {
+            title: "TRIANGLES PER FRAME, % OF FULL RESOLUTION".into(),
+            y_label: "%".into(),
+            categories: categories.clone(),
+            series: vec![
+                (
+                    "ACUITY".into(),
+                    results
+                        .iter()
+                        .map(|r| 100.0 * r.mean_triangles() / full as f64)
+                        .collect(),
+                ),
+                (
+                    "REDDY 2001".into(),
+                    results
+                        .iter()
+                        .map(|r| 100.0 * r.row.paper_triangles as f64 / 1_116_720.0)
+                        .collect(),
+                ),
+            ],
+        },
+        &dir.join("table1.png"),
+    )?;
+    save_bar_plot(
+        &BarPlot {
+            title: "REFINEMENT TIME PER FRAME (ONE CORE)".into(),
+            y_label: "ms".into(),
+            categories,
+            series: vec![(
+                "ACUITY REFINE".into(),
+                results.iter().map(RowResult::mean_refine_ms).collect(),
+            )],
+        },
+        &dir.join("refine_ms.png"),
+    )?;
+    println!(
+        "wrote {}: table1.csv, frames.csv, flight.csv, table1.png, refine_ms.png",
+        dir.display()
+    );
+    Ok(())
+}
