@@ -233,11 +233,11 @@ fn patch(x: usize, y: usize, width: usize, height: usize) -> f32 {
         return 1.0;
     }
     let on = match k {
-        0 => x % 2 == 0,
-        1 => (x / 2) % 2 == 0,
-        2 => (x / 4) % 2 == 0,
-        3 => ((x / 4) + (y / 4)) % 2 == 0,
-        _ => ((x / 2) + (y.abs_diff(cy) / 2)) % 2 == 0,
+        0 => x.is_multiple_of(2),
+        1 => (x / 2).is_multiple_of(2),
+        2 => (x / 4).is_multiple_of(2),
+        3 => ((x / 4) + (y / 4)).is_multiple_of(2),
+        _ => ((x / 2) + (y.abs_diff(cy) / 2)).is_multiple_of(2),
     };
     if on { 1.0 } else { 0.1 }
 }

@@ -176,7 +176,8 @@ impl View {
 /// continuous across it. Domain: `cutoff_cpx >= 0` (0 gives `+inf`);
 /// `NaN` gives 0.
 pub fn sigma_px_for_cutoff(cutoff_cpx: f32) -> f32 {
-    if !(cutoff_cpx < 0.5) {
+    // NaN and anything at or above the display limit: no blur.
+    if cutoff_cpx.is_nan() || cutoff_cpx >= 0.5 {
         return 0.0;
     }
     HALF_GAIN_K * (1.0 / (cutoff_cpx * cutoff_cpx) - 4.0).sqrt()
@@ -388,7 +389,7 @@ impl<'a> Pyramid<'a> {
     /// a Gaussian of variance `var` px^2 (0: the pixel itself; beyond the
     /// top level: the top level), blended as the type's docs say.
     pub fn sample(&self, x: usize, y: usize, var: f32, out: &mut [f32]) {
-        if !(var > 0.0) {
+        if var.is_nan() || var <= 0.0 {
             let base = &self.levels[0].image;
             let i = (y * base.width + x) * base.channels;
             out.copy_from_slice(&base.data[i..i + base.channels]);
