@@ -25,7 +25,7 @@
 //!   [`blur`]: `acuity blur`; [`fractal`]: seeded fractal noise.
 //! - [`terrain`]: `acuity terrain` (Reddy 2001's Table 1 on
 //!   [`acuity::terrain`]); [`flight`]: its procedural valley and flight
-//!   path; [`barplot`]: PNG bar charts.
+//!   path; [`terrain_render`]: drawing it; [`barplot`]: PNG bar charts.
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
 
@@ -54,6 +54,7 @@ pub mod run;
 pub mod scene;
 pub mod screen_size;
 pub mod terrain;
+pub mod terrain_render;
 pub mod thresholds;
 
 /// An error and its causes on one line, `error: cause: ...`, as the

@@ -4,10 +4,12 @@
 //! with the average triangles and refinement time per frame beside the
 //! paper's numbers, as a printed table, CSV and bar plots.
 //!
-//! Measured here: the refinement (the quadtree walk and the crack-free
-//! triangulation, on one core). Not measured: drawing the triangles; the
-//! paper's frame times (SGI O2, 1999) included drawing and are given for
-//! reference only.
+//! Measured: the refinement (the quadtree walk and the crack-free
+//! triangulation, on one core) every frame; with `--render-every N`, also
+//! every N-th frame drawn with the project's renderer
+//! ([`crate::terrain_render`]): the GPU-synchronised draw time, and FLIP
+//! against the full-resolution row's image of the same frame. The
+//! paper's frame times (SGI O2, 1999) are given for reference only.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -21,6 +23,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::barplot::{BarPlot, save_bar_plot};
 use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
+use crate::terrain_render::TerrainRenderer;
 
 /// Arguments of `acuity terrain`.
 #[derive(clap::Args, Debug, Clone)]
@@ -56,6 +59,11 @@ pub struct TerrainArgs {
     /// Global scale factor s in (0, 1].
     #[arg(long, default_value_t = 1.0)]
     pub scale: f32,
+    /// Draw every N-th frame of each row with the renderer at the display
+    /// resolution (0: draw nothing; drawing needs a GPU or a software
+    /// adapter such as llvmpipe).
+    #[arg(long, default_value_t = 30)]
+    pub render_every: u32,
     /// How acuity falls with eccentricity (the paper's `reddy2001` by
     /// default here, or `cortical_magnification`).
     #[arg(long, default_value = "reddy2001")]
@@ -114,6 +122,10 @@ pub struct RowResult {
     pub triangles: Vec<usize>,
     /// Refinement time per frame, ms.
     pub refine_ms: Vec<f64>,
+    /// Draw time of each drawn frame, ms (GPU-synchronised).
+    pub draw_ms: Vec<f64>,
+    /// Mean FLIP error of each drawn frame against the first row's.
+    pub flip: Vec<f64>,
 }
 
 impl RowResult {
@@ -202,6 +214,21 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} frames  {msg}") {
         bar.set_style(style);
     }
+    let mut renderer = if args.render_every > 0 {
+        let r = TerrainRenderer::new(args.resolution, args.fov, &terrain)
+            .context("drawing the terrain (--render-every 0 measures refinement alone)")?;
+        let [dh, dv] = r.drawn_fov_deg();
+        println!(
+            "drawing every {} frames on {} ({dh:.0}x{dv:.0} deg drawn)",
+            args.render_every,
+            r.adapter()
+        );
+        Some(r)
+    } else {
+        None
+    };
+    let ppd = args.resolution[0] as f32 / renderer.as_ref().map_or(1.0, |r| r.drawn_fov_deg()[0]);
+    let mut references: Vec<Vec<u8>> = Vec::new();
     let mut results = Vec::with_capacity(ROWS.len());
     let mut mesh = Refinement::new();
     for row in ROWS {
@@ -219,13 +246,36 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
             row,
             triangles: Vec::with_capacity(frames),
             refine_ms: Vec::with_capacity(frames),
+            draw_ms: Vec::new(),
+            flip: Vec::new(),
         };
-        for view in &views {
+        for (i, view) in views.iter().enumerate() {
             let start = Instant::now();
             terrain.refine(view, &settings, &mut mesh)?;
             result.refine_ms.push(start.elapsed().as_secs_f64() * 1e3);
             result.triangles.push(mesh.stats().triangles);
             bar.inc(1);
+            let Some(r) = renderer.as_mut() else { continue };
+            if i % args.render_every as usize != 0 {
+                continue;
+            }
+            let drawn = r.draw(&terrain, &mesh, &view.camera)?;
+            result.draw_ms.push(drawn.draw_ms);
+            let k = i / args.render_every as usize;
+            if references.len() <= k {
+                references.push(drawn.image.rgba.clone());
+            }
+            let [w, h] = args.resolution;
+            let flip = crate::flip::flip_rgba(&references[k], &drawn.image.rgba, w, h, ppd)?;
+            result.flip.push(flip.mean as f64);
+            if k == frames / args.render_every as usize / 2 {
+                std::fs::create_dir_all(&args.out)?;
+                let path = args.out.join(format!("frame_{}.png", row.name));
+                image::RgbaImage::from_raw(w, h, drawn.image.rgba)
+                    .context("a rendered frame of the wrong size")?
+                    .save(&path)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
         }
         results.push(result);
     }
@@ -239,19 +289,28 @@ pub fn format_table(results: &[RowResult], full_triangles: usize) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<14} {:>12} {:>8} {:>9} {:>11} {:>15}",
-        "criteria", "triangles", "%", "paper %", "refine ms", "paper frame ms"
+        "{:<14} {:>12} {:>8} {:>9} {:>11} {:>9} {:>7} {:>15}",
+        "criteria", "triangles", "%", "paper %", "refine ms", "draw ms", "FLIP", "paper frame ms"
     );
+    let or_dash = |v: &[f64], digits: usize| {
+        if v.is_empty() {
+            "-".to_owned()
+        } else {
+            format!("{:.*}", digits, mean(v.iter().copied()))
+        }
+    };
     for r in results {
         let tris = r.mean_triangles();
         let _ = writeln!(
             t,
-            "{:<14} {:>12.0} {:>7.2}% {:>8.1}% {:>11.3} {:>15.0}",
+            "{:<14} {:>12.0} {:>7.2}% {:>8.1}% {:>11.3} {:>9} {:>7} {:>15.0}",
             r.row.name,
             tris,
             100.0 * tris / full_triangles as f64,
             100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
             r.mean_refine_ms(),
+            or_dash(&r.draw_ms, 1),
+            or_dash(&r.flip, 4),
             r.row.paper_frame_ms
         );
     }
@@ -270,8 +329,15 @@ fn write_outputs(
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
     };
     let mut table = String::from(
-        "criteria,size,peripheral,velocity,viewport_cull,mean_triangles,triangle_percent,mean_refine_ms,p95_refine_ms,paper_triangles,paper_percent,paper_frame_ms\n",
+        "criteria,size,peripheral,velocity,viewport_cull,mean_triangles,triangle_percent,mean_refine_ms,p95_refine_ms,drawn_frames,mean_draw_ms,mean_flip,paper_triangles,paper_percent,paper_frame_ms\n",
     );
+    let opt = |v: &[f64]| {
+        if v.is_empty() {
+            String::new()
+        } else {
+            format!("{:.5}", mean(v.iter().copied()))
+        }
+    };
     let mut frames = String::from("criteria,frame,triangles,refine_ms\n");
     for r in results {
         let c = r.row.components;
@@ -284,7 +350,7 @@ fn write_outputs(
             .unwrap_or(0.0);
         let _ = writeln!(
             table,
-            "{},{},{},{},{},{:.1},{:.4},{:.4},{:.4},{},{:.2},{}",
+            "{},{},{},{},{},{:.1},{:.4},{:.4},{:.4},{},{},{},{},{:.2},{}",
             r.row.name,
             c.size,
             c.eccentricity,
@@ -294,6 +360,9 @@ fn write_outputs(
             100.0 * tris / full as f64,
             r.mean_refine_ms(),
             p95,
+            r.draw_ms.len(),
+            opt(&r.draw_ms),
+            opt(&r.flip),
             r.row.paper_triangles,
             100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
             r.row.paper_frame_ms
