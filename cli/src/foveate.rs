@@ -294,8 +294,10 @@ pub fn foveate(image: &Image, view: &View) -> Result<Image, FoveateError> {
         }
     });
     Ok(Image {
+        width: image.width,
+        height: image.height,
+        channels: image.channels,
         data,
-        ..image.clone()
     })
 }
 
@@ -468,8 +470,10 @@ fn smooth(image: &Image) -> Image {
         }
     });
     Image {
+        width: w,
+        height: h,
+        channels: c,
         data,
-        ..image.clone()
     }
 }
 

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
+use acuity::terrain::{Heightfield, Refinement, Terrain, TerrainSettings, TerrainView};
 use acuity::{Components, EccentricityModel, VelocityModel};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -42,6 +42,18 @@ pub struct TerrainArgs {
     /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
     #[arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution)]
     pub size: [u32; 2],
+    /// A heightfield PNG (grey, 8 or 16 bits; colour is taken as its
+    /// luminance) instead of the procedural valley: one sample per pixel,
+    /// the top row north. Black is 0 m, white --height-range-m. The
+    /// flight takes the same line as over the valley (up the middle).
+    #[arg(long)]
+    pub heightfield: Option<PathBuf>,
+    /// Metres between the samples of --heightfield.
+    #[arg(long, default_value_t = 30.0)]
+    pub spacing_m: f32,
+    /// Height of white in --heightfield, m.
+    #[arg(long, default_value_t = 2000.0)]
+    pub height_range_m: f32,
     /// Seed of the procedural terrain.
     #[arg(long, default_value_t = 2001)]
     pub seed: u64,
@@ -166,19 +178,33 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
             args.velocity_window
         );
     }
-    let valley = ValleySettings {
-        size: args.size.map(|n| n as usize),
-        seed: args.seed,
-        ..Default::default()
-    };
     let start = Instant::now();
-    let field = valley.heightfield().context("the procedural terrain")?;
+    let (valley, field) = match &args.heightfield {
+        Some(path) => {
+            let field = load_heightfield(path, args.spacing_m, args.height_range_m)?;
+            let valley = ValleySettings {
+                size: field.size(),
+                spacing_m: args.spacing_m,
+                ..Default::default()
+            };
+            (valley, field)
+        }
+        None => {
+            let valley = ValleySettings {
+                size: args.size.map(|n| n as usize),
+                seed: args.seed,
+                ..Default::default()
+            };
+            let field = valley.heightfield().context("the procedural terrain")?;
+            (valley, field)
+        }
+    };
     let full = field.full_triangles();
     let terrain = Terrain::new(field);
     println!(
         "terrain: {}x{} samples, {full} triangles at full resolution, quadtree of {} levels built in {:.0} ms",
-        args.size[0],
-        args.size[1],
+        valley.size[0],
+        valley.size[1],
         terrain.depth(),
         start.elapsed().as_secs_f64() * 1e3
     );
@@ -186,7 +212,7 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
         duration_s: args.duration,
         ..Default::default()
     };
-    let frames = (args.duration * args.fps as f32).round().max(1.0) as usize;
+    let frames = (flight.duration_s * args.fps as f32).round().max(1.0) as usize;
     let pose = |t: f32| flight.pose(t, &valley, terrain.heightfield());
     let poses: Vec<Pose> = (0..frames)
         .map(|i| pose(i as f32 / args.fps as f32))
@@ -201,7 +227,7 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     }
     println!(
         "flight: {frames} frames over {:.1} s, view turning at {:.1} deg/s on average",
-        args.duration,
+        flight.duration_s,
         Flight::mean_angular_speed_deg_per_s(&poses)
     );
     let [w, h] = args.resolution;
@@ -282,6 +308,23 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     print!("{}", format_table(&results, full));
     write_outputs(&args.out, &results, full, &poses)
+}
+
+/// A grey PNG as a heightfield (see [`TerrainArgs::heightfield`]).
+fn load_heightfield(path: &Path, spacing_m: f32, range_m: f32) -> anyhow::Result<Heightfield> {
+    if !(range_m.is_finite() && range_m > 0.0) {
+        anyhow::bail!("--height-range-m {range_m} is not a finite height > 0");
+    }
+    let grey = image::open(path)
+        .with_context(|| format!("reading {}", path.display()))?
+        .to_luma16();
+    let (w, h) = (grey.width() as usize, grey.height() as usize);
+    let mut heights = vec![0.0f32; w * h];
+    for (x, y, p) in grey.enumerate_pixels() {
+        let j = h - 1 - y as usize;
+        heights[j * w + x as usize] = p.0[0] as f32 / 65535.0 * range_m;
+    }
+    Heightfield::new(w, h, spacing_m, heights).with_context(|| format!("{}", path.display()))
 }
 
 /// The table as printed: ours beside the paper's.
@@ -416,4 +459,39 @@ fn write_outputs(
         dir.display()
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grey_png_loads_with_its_top_row_north() {
+        let dir = std::env::temp_dir().join(format!("acuity-terrain-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("h.png");
+        let mut img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(3, 2);
+        img.put_pixel(0, 0, image::Luma([65535]));
+        img.put_pixel(2, 1, image::Luma([32768]));
+        img.save(&path).unwrap();
+        let field = load_heightfield(&path, 10.0, 1000.0).unwrap();
+        assert_eq!(field.size(), [3, 2]);
+        assert_eq!(field.at(0, 1), 1000.0); // top-left: north-west
+        assert!((field.at(2, 0) - 500.0).abs() < 0.1);
+        assert_eq!(field.at(1, 0), 0.0);
+        assert!(load_heightfield(&path, 10.0, 0.0).is_err());
+        let e = load_heightfield(&dir.join("none.png"), 10.0, 1.0).unwrap_err();
+        assert!(format!("{e:#}").contains("none.png"), "{e:#}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn the_rows_are_table_1s() {
+        assert_eq!(ROWS.len(), 6);
+        assert!(!ROWS[0].viewport_cull && ROWS[1..].iter().all(|r| r.viewport_cull));
+        assert_eq!(ROWS[5].components, Components::ALL);
+        let paper: Vec<u32> = ROWS.iter().map(|r| r.paper_triangles).collect();
+        assert_eq!(paper[0], 1_116_720);
+        assert!(paper[5] < paper[3] && paper[3] < paper[2]);
+    }
 }
