@@ -266,6 +266,33 @@ mod tests {
     }
 
     #[test]
+    fn the_command_writes_three_labelled_panels() {
+        let dir = std::env::temp_dir().join(format!("acuity-blur-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let args = BlurArgs {
+            image: None,
+            fov: [150.0, 100.0],
+            gaze: (10.0, 20.0),
+            test_size: [96, 48],
+            velocity: 50.0,
+            scale: 1.0,
+            eccentricity_model: EccentricityModel::Reddy2001,
+            velocity_model: VelocityModel::Reddy2001,
+            out: dir.join("fig5.png"),
+        };
+        run(&args).unwrap();
+        let out = image::open(&args.out).unwrap();
+        assert_eq!((out.width(), out.height()), (3 * 96 + 2 * 8, 48 + 40));
+        let outside = BlurArgs {
+            gaze: (97.0, 20.0),
+            ..args
+        };
+        let e = run(&outside).unwrap_err();
+        assert!(e.to_string().contains("outside the 96x48 image"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
     fn a_missing_file_names_itself() {
         let e = load_linear(Path::new("no/such.png")).unwrap_err();
         assert!(format!("{e:#}").contains("no/such.png"), "{e:#}");

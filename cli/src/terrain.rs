@@ -486,6 +486,50 @@ mod tests {
     }
 
     #[test]
+    fn a_short_flight_writes_the_table_csvs_and_plots() {
+        let dir = std::env::temp_dir().join(format!("acuity-table1-{}", std::process::id()));
+        let args = TerrainArgs {
+            out: dir.clone(),
+            fov: [200.0, 135.0],
+            resolution: [1280, 1024],
+            heightfield: None,
+            spacing_m: 30.0,
+            height_range_m: 2000.0,
+            size: [65, 129],
+            seed: 1,
+            fps: 10,
+            duration: 1.0,
+            velocity_window: 0.1,
+            scale: 1.0,
+            render_every: 0,
+            eccentricity_model: EccentricityModel::Reddy2001,
+            velocity_model: VelocityModel::Reddy2001,
+        };
+        run(&args).unwrap();
+        let table = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
+        assert_eq!(table.lines().count(), 7, "{table}");
+        assert!(
+            table
+                .lines()
+                .nth(1)
+                .unwrap()
+                .starts_with("none,false,false,false,false,16384.0,100.0000,")
+        );
+        let frames = std::fs::read_to_string(dir.join("frames.csv")).unwrap();
+        assert_eq!(frames.lines().count(), 1 + 6 * 10);
+        for png in ["table1.png", "refine_ms.png"] {
+            assert!(image::open(dir.join(png)).is_ok(), "{png}");
+        }
+        let bad = TerrainArgs {
+            fov: [0.0, 135.0],
+            ..args
+        };
+        let e = run(&bad).unwrap_err();
+        assert!(crate::error_line(&e).contains("fov_deg"), "{e:#}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
     fn the_rows_are_table_1s() {
         assert_eq!(ROWS.len(), 6);
         assert!(!ROWS[0].viewport_cull && ROWS[1..].iter().all(|r| r.viewport_cull));
