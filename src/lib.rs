@@ -17,7 +17,8 @@
 //! Modules: [`acuity`] (the model), [`csf`] (contrast sensitivity and its
 //! calibration), [`display`], [`camera`], [`select`] (the per-frame loop),
 //! [`schedule`] (fixed frame rate), [`stereo`] (one selection for both
-//! eyes of a headset), [`profile`] (the file format).
+//! eyes of a headset), [`profile`] (the file format), [`terrain`]
+//! (view-dependent terrain refined by the same model).
 //!
 //! Features: `json` (JSON profiles), `parallel` (the selection loop on
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
@@ -40,6 +41,7 @@ pub mod rows;
 pub mod schedule;
 pub mod select;
 pub mod stereo;
+pub mod terrain;
 mod viewpoints;
 
 pub use crate::acuity::{Components, EccentricityModel, VelocityModel};

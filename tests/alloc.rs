@@ -74,3 +74,55 @@ fn warm_frames_allocate_nothing() {
     let during = allocations() - before;
     assert_eq!(during, 0, "{during} allocations in 60 warm frames");
 }
+
+#[test]
+fn warm_terrain_refinement_allocates_nothing() {
+    use acuity::terrain::{Heightfield, Refinement, Terrain, TerrainSettings, TerrainView};
+    use acuity::{Components, EccentricityModel, VelocityModel};
+    use glam::Vec3;
+
+    let (w, h) = (65, 49);
+    let heights = (0..w * h)
+        .map(|n| {
+            let (x, y) = ((n % w) as f32, (n / w) as f32);
+            20.0 * (0.3 * x).sin() * (0.2 * y).cos() + 5.0 * (1.7 * x + 0.9 * y).sin()
+        })
+        .collect();
+    let terrain = Terrain::new(Heightfield::new(w, h, 10.0, heights).unwrap());
+    let settings = TerrainSettings {
+        components: Components::ALL,
+        viewport_cull: true,
+        fov_deg: [200.0, 135.0],
+        display_limit_cpd: 3.8,
+        scale: 1.0,
+        eccentricity_model: EccentricityModel::Reddy2001,
+        velocity_model: VelocityModel::Reddy2001,
+    };
+    let view = |yaw: f32| {
+        let at = |yaw: f32| {
+            let (s, c) = yaw.to_radians().sin_cos();
+            Camera::look_to(
+                DVec3::new(300.0, 100.0, 60.0),
+                Vec3::new(s, c, -0.3),
+                Vec3::Z,
+            )
+            .unwrap()
+        };
+        TerrainView {
+            camera: at(yaw),
+            previous: Some(at(yaw - 3.0)),
+            dt_s: 0.1,
+        }
+    };
+    let mut out = Refinement::new();
+    let yaws = [0.0, 40.0, -70.0, 150.0];
+    for &yaw in &yaws {
+        terrain.refine(&view(yaw), &settings, &mut out).unwrap();
+    }
+    let before = allocations();
+    for &yaw in &yaws {
+        terrain.refine(&view(yaw), &settings, &mut out).unwrap();
+        assert!(out.stats().triangles > 0);
+    }
+    assert_eq!(allocations() - before, 0);
+}

@@ -22,13 +22,23 @@
 //!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`; [`plot_csv`]: `acuity
 //!   plot` (a plot of any two columns of a CSV).
+//! - [`foveate`]: the acuity image filter (Reddy 2001, Fig. 5), pure;
+//!   [`blur`]: `acuity blur`; [`fractal`]: seeded fractal noise.
+//! - [`terrain`]: `acuity terrain` (Reddy 2001's Table 1 on
+//!   [`acuity::terrain`]); [`flight`]: its procedural valley and flight
+//!   path; [`terrain_render`]: drawing it; [`barplot`]: PNG bar charts.
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
 
 mod arrays;
+pub mod barplot;
+pub mod blur;
 pub mod dump;
 pub mod experiment;
+pub mod flight;
 pub mod flip;
+pub mod foveate;
+pub mod fractal;
 pub mod frames;
 pub mod gaze;
 pub mod limits;
@@ -45,6 +55,8 @@ pub mod report;
 pub mod run;
 pub mod scene;
 pub mod screen_size;
+pub mod terrain;
+pub mod terrain_render;
 pub mod thresholds;
 
 /// An error and its causes on one line, `error: cause: ...`, as the

@@ -34,6 +34,12 @@ enum Command {
     Experiment(acuity_cli::experiment::ExperimentArgs),
     /// A PNG line plot of two columns of a CSV, one line per group of rows.
     Plot(acuity_cli::plot_csv::PlotArgs),
+    /// Remove from an image the detail the acuity model predicts a viewer
+    /// cannot see at a gaze point and velocity (Reddy 2001, Fig. 5).
+    Blur(acuity_cli::blur::BlurArgs),
+    /// View-dependent terrain under each combination of perceptual
+    /// criteria over a recorded flight (Reddy 2001, Table 1).
+    Terrain(acuity_cli::terrain::TerrainArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -121,6 +127,8 @@ fn main() -> ExitCode {
         Command::Run(args) => return acuity_cli::run::command(&args),
         Command::Experiment(args) => return acuity_cli::experiment::command(&args),
         Command::Plot(args) => return acuity_cli::plot_csv::command(&args),
+        Command::Blur(args) => return acuity_cli::blur::command(&args),
+        Command::Terrain(args) => return acuity_cli::terrain::command(&args),
         Command::Preprocess(args) => {
             return acuity_cli::preprocess::finish(acuity_cli::preprocess::run(&args));
         }

@@ -39,3 +39,18 @@ pub fn parse_threshold(text: &str) -> Result<f32, String> {
         _ => Err(format!("`{text}` is not a positive number")),
     }
 }
+
+/// Parses a `HORIZxVERT` pair of angles in degrees (command-line flag):
+/// two finite numbers; the command checks their range.
+pub fn parse_angles(text: &str) -> Result<[f32; 2], String> {
+    let (a, b) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not of the form HORIZxVERT"))?;
+    let p = |s: &str| match s.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "`{s}` in `{text}` is not a finite angle in degrees"
+        )),
+    };
+    Ok([p(a)?, p(b)?])
+}

@@ -1,0 +1,541 @@
+//! `acuity terrain`: Reddy 2001's Table 1 on acuity's view-dependent
+//! terrain ([`acuity::terrain`]): the recorded flight over the procedural
+//! valley ([`crate::flight`]) refined under six combinations of criteria,
+//! with the average triangles and refinement time per frame beside the
+//! paper's numbers, as a printed table, CSV and bar plots.
+//!
+//! Measured: the refinement (the quadtree walk and the crack-free
+//! triangulation, on one core) every frame; with `--render-every N`, also
+//! every N-th frame drawn with the project's renderer
+//! ([`crate::terrain_render`]): the GPU-synchronised draw time, and FLIP
+//! against the full-resolution row's image of the same frame. The
+//! paper's frame times (SGI O2, 1999) are given for reference only.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use acuity::terrain::{Heightfield, Refinement, Terrain, TerrainSettings, TerrainView};
+use acuity::{Components, EccentricityModel, VelocityModel};
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::barplot::{BarPlot, save_bar_plot};
+use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
+use crate::terrain_render::TerrainRenderer;
+
+/// Arguments of `acuity terrain`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TerrainArgs {
+    /// Output folder.
+    #[arg(long, default_value = "out/terrain")]
+    pub out: PathBuf,
+    /// Field of view, HORIZxVERT deg (Reddy: 200x135), as azimuth and
+    /// elevation about the view direction.
+    #[arg(long, default_value = "200x135", value_parser = crate::parse::parse_angles)]
+    pub fov: [f32; 2],
+    /// Display resolution, WIDTHxHEIGHT px: with the field of view it sets
+    /// the display limit xi = max(w / (2 h_fov), h / (2 v_fov)).
+    #[arg(long, default_value = "1280x1024", value_parser = crate::parse::parse_resolution)]
+    pub resolution: [u32; 2],
+    /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
+    #[arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution)]
+    pub size: [u32; 2],
+    /// A heightfield PNG (grey, 8 or 16 bits; colour is taken as its
+    /// luminance) instead of the procedural valley: one sample per pixel,
+    /// the top row north. Black is 0 m, white --height-range-m. The
+    /// flight takes the same line as over the valley (up the middle).
+    #[arg(long)]
+    pub heightfield: Option<PathBuf>,
+    /// Metres between the samples of --heightfield.
+    #[arg(long, default_value_t = 30.0)]
+    pub spacing_m: f32,
+    /// Height of white in --heightfield, m.
+    #[arg(long, default_value_t = 2000.0)]
+    pub height_range_m: f32,
+    /// Seed of the procedural terrain.
+    #[arg(long, default_value_t = 2001)]
+    pub seed: u64,
+    /// Frames per second of the flight (the path is the same at any rate).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
+    /// Duration of the flight, s (0.1 to 600).
+    #[arg(long, default_value_t = 20.0)]
+    pub duration: f32,
+    /// Window over which retinal velocity is measured, s: the angle a
+    /// node's direction turned since the camera that long ago (averaging
+    /// over several frames, as Reddy smoothed it).
+    #[arg(long, default_value_t = 0.1)]
+    pub velocity_window: f32,
+    /// Global scale factor s in (0, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f32,
+    /// Draw every N-th frame of each row with the renderer at the display
+    /// resolution (0: draw nothing; drawing needs a GPU or a software
+    /// adapter such as llvmpipe).
+    #[arg(long, default_value_t = 30)]
+    pub render_every: u32,
+    /// How acuity falls with eccentricity (the paper's `reddy2001` by
+    /// default here, or `cortical_magnification`).
+    #[arg(long, default_value = "reddy2001")]
+    pub eccentricity_model: EccentricityModel,
+    /// How acuity falls with velocity (`reddy2001` by default here, or
+    /// `kelly1979`).
+    #[arg(long, default_value = "reddy2001")]
+    pub velocity_model: VelocityModel,
+}
+
+/// One row of Table 1: its criteria and the paper's results.
+#[derive(Clone, Copy, Debug)]
+pub struct Row {
+    /// Short name (CSV, plots).
+    pub name: &'static str,
+    /// Size, peripheral (eccentricity) and velocity.
+    pub components: Components,
+    /// Viewport culling.
+    pub viewport_cull: bool,
+    /// The paper's average triangles per frame.
+    pub paper_triangles: u32,
+    /// The paper's average frame time, ms.
+    pub paper_frame_ms: f32,
+}
+
+const fn row(name: &'static str, c: [bool; 4], tris: u32, ms: f32) -> Row {
+    Row {
+        name,
+        components: Components {
+            size: c[0],
+            eccentricity: c[1],
+            velocity: c[2],
+        },
+        viewport_cull: c[3],
+        paper_triangles: tris,
+        paper_frame_ms: ms,
+    }
+}
+
+/// Table 1's six rows (size, peripheral, velocity, viewport cull).
+pub const ROWS: [Row; 6] = [
+    row("none", [false, false, false, false], 1_116_720, 7127.0),
+    row("cull", [false, false, false, true], 449_828, 2517.0),
+    row("size", [true, false, false, true], 59_980, 920.0),
+    row("size+periph", [true, true, false, true], 40_684, 650.0),
+    row("size+velocity", [true, false, true, true], 60_850, 953.0),
+    row("all", [true, true, true, true], 8_964, 161.0),
+];
+
+/// The result of one row over the flight.
+#[derive(Clone, Debug)]
+pub struct RowResult {
+    /// The row.
+    pub row: Row,
+    /// Triangles per frame.
+    pub triangles: Vec<usize>,
+    /// Refinement time per frame, ms.
+    pub refine_ms: Vec<f64>,
+    /// Draw time of each drawn frame, ms (GPU-synchronised).
+    pub draw_ms: Vec<f64>,
+    /// Mean FLIP error of each drawn frame against the first row's.
+    pub flip: Vec<f64>,
+}
+
+impl RowResult {
+    /// Mean triangles per frame.
+    pub fn mean_triangles(&self) -> f64 {
+        mean(self.triangles.iter().map(|&t| t as f64))
+    }
+
+    /// Mean refinement time per frame, ms.
+    pub fn mean_refine_ms(&self) -> f64 {
+        mean(self.refine_ms.iter().copied())
+    }
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// Runs `acuity terrain`; prints the error on one line on failure.
+pub fn command(args: &TerrainArgs) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", crate::error_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(args: &TerrainArgs) -> anyhow::Result<()> {
+    if !(0.1..=600.0).contains(&args.duration) {
+        anyhow::bail!("--duration {} s is outside [0.1, 600]", args.duration);
+    }
+    if !(args.velocity_window > 0.0 && args.velocity_window <= 10.0) {
+        anyhow::bail!(
+            "--velocity-window {} s is outside (0, 10]",
+            args.velocity_window
+        );
+    }
+    let start = Instant::now();
+    let (valley, field) = match &args.heightfield {
+        Some(path) => {
+            let field = load_heightfield(path, args.spacing_m, args.height_range_m)?;
+            let valley = ValleySettings {
+                size: field.size(),
+                spacing_m: args.spacing_m,
+                ..Default::default()
+            };
+            (valley, field)
+        }
+        None => {
+            let valley = ValleySettings {
+                size: args.size.map(|n| n as usize),
+                seed: args.seed,
+                ..Default::default()
+            };
+            let field = valley.heightfield().context("the procedural terrain")?;
+            (valley, field)
+        }
+    };
+    let full = field.full_triangles();
+    let terrain = Terrain::new(field);
+    println!(
+        "terrain: {}x{} samples, {full} triangles at full resolution, quadtree of {} levels built in {:.0} ms",
+        valley.size[0],
+        valley.size[1],
+        terrain.depth(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let flight = Flight {
+        duration_s: args.duration,
+        ..Default::default()
+    };
+    let frames = (flight.duration_s * args.fps as f32).round().max(1.0) as usize;
+    let pose = |t: f32| flight.pose(t, &valley, terrain.heightfield());
+    let poses: Vec<Pose> = (0..frames)
+        .map(|i| pose(i as f32 / args.fps as f32))
+        .collect();
+    let mut views = Vec::with_capacity(frames);
+    for p in &poses {
+        views.push(TerrainView {
+            camera: p.camera()?,
+            previous: Some(pose(p.t_s - args.velocity_window).camera()?),
+            dt_s: args.velocity_window,
+        });
+    }
+    println!(
+        "flight: {frames} frames over {:.1} s, view turning at {:.1} deg/s on average",
+        flight.duration_s,
+        Flight::mean_angular_speed_deg_per_s(&poses)
+    );
+    let [w, h] = args.resolution;
+    let xi = (w as f32 / (2.0 * args.fov[0])).max(h as f32 / (2.0 * args.fov[1]));
+    println!(
+        "display: {w}x{h} px over {}x{} deg, limit xi = {xi:.2} c/deg",
+        args.fov[0], args.fov[1]
+    );
+    let bar = ProgressBar::new((frames * ROWS.len()) as u64);
+    if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} frames  {msg}") {
+        bar.set_style(style);
+    }
+    let mut renderer = if args.render_every > 0 {
+        let r = TerrainRenderer::new(args.resolution, args.fov, &terrain)
+            .context("drawing the terrain (--render-every 0 measures refinement alone)")?;
+        let [dh, dv] = r.drawn_fov_deg();
+        println!(
+            "drawing every {} frames on {} ({dh:.0}x{dv:.0} deg drawn)",
+            args.render_every,
+            r.adapter()
+        );
+        Some(r)
+    } else {
+        None
+    };
+    let ppd = args.resolution[0] as f32 / renderer.as_ref().map_or(1.0, |r| r.drawn_fov_deg()[0]);
+    let mut references: Vec<Vec<u8>> = Vec::new();
+    let mut results = Vec::with_capacity(ROWS.len());
+    let mut mesh = Refinement::new();
+    for row in ROWS {
+        bar.set_message(row.name);
+        let settings = TerrainSettings {
+            components: row.components,
+            viewport_cull: row.viewport_cull,
+            fov_deg: args.fov,
+            display_limit_cpd: xi,
+            scale: args.scale,
+            eccentricity_model: args.eccentricity_model,
+            velocity_model: args.velocity_model,
+        };
+        let mut result = RowResult {
+            row,
+            triangles: Vec::with_capacity(frames),
+            refine_ms: Vec::with_capacity(frames),
+            draw_ms: Vec::new(),
+            flip: Vec::new(),
+        };
+        for (i, view) in views.iter().enumerate() {
+            let start = Instant::now();
+            terrain.refine(view, &settings, &mut mesh)?;
+            result.refine_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            result.triangles.push(mesh.stats().triangles);
+            bar.inc(1);
+            let Some(r) = renderer.as_mut() else { continue };
+            if i % args.render_every as usize != 0 {
+                continue;
+            }
+            let drawn = r.draw(&terrain, &mesh, &view.camera)?;
+            result.draw_ms.push(drawn.draw_ms);
+            let k = i / args.render_every as usize;
+            if references.len() <= k {
+                references.push(drawn.image.rgba.clone());
+            }
+            let [w, h] = args.resolution;
+            let flip = crate::flip::flip_rgba(&references[k], &drawn.image.rgba, w, h, ppd)?;
+            result.flip.push(flip.mean as f64);
+            if k == frames / args.render_every as usize / 2 {
+                std::fs::create_dir_all(&args.out)?;
+                let path = args.out.join(format!("frame_{}.png", row.name));
+                image::RgbaImage::from_raw(w, h, drawn.image.rgba)
+                    .context("a rendered frame of the wrong size")?
+                    .save(&path)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+        }
+        results.push(result);
+    }
+    bar.finish_and_clear();
+    print!("{}", format_table(&results, full));
+    write_outputs(&args.out, &results, full, &poses)
+}
+
+/// A grey PNG as a heightfield (see [`TerrainArgs::heightfield`]).
+fn load_heightfield(path: &Path, spacing_m: f32, range_m: f32) -> anyhow::Result<Heightfield> {
+    if !(range_m.is_finite() && range_m > 0.0) {
+        anyhow::bail!("--height-range-m {range_m} is not a finite height > 0");
+    }
+    let grey = image::open(path)
+        .with_context(|| format!("reading {}", path.display()))?
+        .to_luma16();
+    let (w, h) = (grey.width() as usize, grey.height() as usize);
+    let mut heights = vec![0.0f32; w * h];
+    for (x, y, p) in grey.enumerate_pixels() {
+        let j = h - 1 - y as usize;
+        heights[j * w + x as usize] = p.0[0] as f32 / 65535.0 * range_m;
+    }
+    Heightfield::new(w, h, spacing_m, heights).with_context(|| format!("{}", path.display()))
+}
+
+/// The table as printed: ours beside the paper's.
+pub fn format_table(results: &[RowResult], full_triangles: usize) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<14} {:>12} {:>8} {:>9} {:>11} {:>9} {:>7} {:>15}",
+        "criteria", "triangles", "%", "paper %", "refine ms", "draw ms", "FLIP", "paper frame ms"
+    );
+    let or_dash = |v: &[f64], digits: usize| {
+        if v.is_empty() {
+            "-".to_owned()
+        } else {
+            format!("{:.*}", digits, mean(v.iter().copied()))
+        }
+    };
+    for r in results {
+        let tris = r.mean_triangles();
+        let _ = writeln!(
+            t,
+            "{:<14} {:>12.0} {:>7.2}% {:>8.1}% {:>11.3} {:>9} {:>7} {:>15.0}",
+            r.row.name,
+            tris,
+            100.0 * tris / full_triangles as f64,
+            100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
+            r.mean_refine_ms(),
+            or_dash(&r.draw_ms, 1),
+            or_dash(&r.flip, 4),
+            r.row.paper_frame_ms
+        );
+    }
+    t
+}
+
+fn write_outputs(
+    dir: &Path,
+    results: &[RowResult],
+    full: usize,
+    poses: &[Pose],
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let write = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+    };
+    let mut table = String::from(
+        "criteria,size,peripheral,velocity,viewport_cull,mean_triangles,triangle_percent,mean_refine_ms,p95_refine_ms,drawn_frames,mean_draw_ms,mean_flip,paper_triangles,paper_percent,paper_frame_ms\n",
+    );
+    let opt = |v: &[f64]| {
+        if v.is_empty() {
+            String::new()
+        } else {
+            format!("{:.5}", mean(v.iter().copied()))
+        }
+    };
+    let mut frames = String::from("criteria,frame,triangles,refine_ms\n");
+    for r in results {
+        let c = r.row.components;
+        let tris = r.mean_triangles();
+        let mut sorted = r.refine_ms.clone();
+        sorted.sort_by(f64::total_cmp);
+        let p95 = sorted
+            .get(((sorted.len() as f64 * 0.95) as usize).min(sorted.len().saturating_sub(1)))
+            .copied()
+            .unwrap_or(0.0);
+        let _ = writeln!(
+            table,
+            "{},{},{},{},{},{:.1},{:.4},{:.4},{:.4},{},{},{},{},{:.2},{}",
+            r.row.name,
+            c.size,
+            c.eccentricity,
+            c.velocity,
+            r.row.viewport_cull,
+            tris,
+            100.0 * tris / full as f64,
+            r.mean_refine_ms(),
+            p95,
+            r.draw_ms.len(),
+            opt(&r.draw_ms),
+            opt(&r.flip),
+            r.row.paper_triangles,
+            100.0 * r.row.paper_triangles as f64 / 1_116_720.0,
+            r.row.paper_frame_ms
+        );
+        for (i, (t, ms)) in r.triangles.iter().zip(&r.refine_ms).enumerate() {
+            let _ = writeln!(frames, "{},{i},{t},{ms:.4}", r.row.name);
+        }
+    }
+    write("table1.csv", table)?;
+    write("frames.csv", frames)?;
+    write("flight.csv", poses_csv(poses))?;
+    let categories: Vec<String> = results.iter().map(|r| r.row.name.to_owned()).collect();
+    save_bar_plot(
+        &BarPlot {
+            title: "TRIANGLES PER FRAME, % OF FULL RESOLUTION".into(),
+            y_label: "%".into(),
+            categories: categories.clone(),
+            series: vec![
+                (
+                    "ACUITY".into(),
+                    results
+                        .iter()
+                        .map(|r| 100.0 * r.mean_triangles() / full as f64)
+                        .collect(),
+                ),
+                (
+                    "REDDY 2001".into(),
+                    results
+                        .iter()
+                        .map(|r| 100.0 * r.row.paper_triangles as f64 / 1_116_720.0)
+                        .collect(),
+                ),
+            ],
+        },
+        &dir.join("table1.png"),
+    )?;
+    save_bar_plot(
+        &BarPlot {
+            title: "REFINEMENT TIME PER FRAME (ONE CORE)".into(),
+            y_label: "ms".into(),
+            categories,
+            series: vec![(
+                "ACUITY REFINE".into(),
+                results.iter().map(RowResult::mean_refine_ms).collect(),
+            )],
+        },
+        &dir.join("refine_ms.png"),
+    )?;
+    println!(
+        "wrote {}: table1.csv, frames.csv, flight.csv, table1.png, refine_ms.png",
+        dir.display()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grey_png_loads_with_its_top_row_north() {
+        let dir = std::env::temp_dir().join(format!("acuity-terrain-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("h.png");
+        let mut img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(3, 2);
+        img.put_pixel(0, 0, image::Luma([65535]));
+        img.put_pixel(2, 1, image::Luma([32768]));
+        img.save(&path).unwrap();
+        let field = load_heightfield(&path, 10.0, 1000.0).unwrap();
+        assert_eq!(field.size(), [3, 2]);
+        assert_eq!(field.at(0, 1), 1000.0); // top-left: north-west
+        assert!((field.at(2, 0) - 500.0).abs() < 0.1);
+        assert_eq!(field.at(1, 0), 0.0);
+        assert!(load_heightfield(&path, 10.0, 0.0).is_err());
+        let e = load_heightfield(&dir.join("none.png"), 10.0, 1.0).unwrap_err();
+        assert!(format!("{e:#}").contains("none.png"), "{e:#}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn a_short_flight_writes_the_table_csvs_and_plots() {
+        let dir = std::env::temp_dir().join(format!("acuity-table1-{}", std::process::id()));
+        let args = TerrainArgs {
+            out: dir.clone(),
+            fov: [200.0, 135.0],
+            resolution: [1280, 1024],
+            heightfield: None,
+            spacing_m: 30.0,
+            height_range_m: 2000.0,
+            size: [65, 129],
+            seed: 1,
+            fps: 10,
+            duration: 1.0,
+            velocity_window: 0.1,
+            scale: 1.0,
+            render_every: 0,
+            eccentricity_model: EccentricityModel::Reddy2001,
+            velocity_model: VelocityModel::Reddy2001,
+        };
+        run(&args).unwrap();
+        let table = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
+        assert_eq!(table.lines().count(), 7, "{table}");
+        assert!(
+            table
+                .lines()
+                .nth(1)
+                .unwrap()
+                .starts_with("none,false,false,false,false,16384.0,100.0000,")
+        );
+        let frames = std::fs::read_to_string(dir.join("frames.csv")).unwrap();
+        assert_eq!(frames.lines().count(), 1 + 6 * 10);
+        for png in ["table1.png", "refine_ms.png"] {
+            assert!(image::open(dir.join(png)).is_ok(), "{png}");
+        }
+        let bad = TerrainArgs {
+            fov: [0.0, 135.0],
+            ..args
+        };
+        let e = run(&bad).unwrap_err();
+        assert!(crate::error_line(&e).contains("fov_deg"), "{e:#}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn the_rows_are_table_1s() {
+        assert_eq!(ROWS.len(), 6);
+        assert!(!ROWS[0].viewport_cull && ROWS[1..].iter().all(|r| r.viewport_cull));
+        assert_eq!(ROWS[5].components, Components::ALL);
+        let paper: Vec<u32> = ROWS.iter().map(|r| r.paper_triangles).collect();
+        assert_eq!(paper[0], 1_116_720);
+        assert!(paper[5] < paper[3] && paper[3] < paper[2]);
+    }
+}
