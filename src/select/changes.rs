@@ -11,9 +11,9 @@ const GROUP: usize = 64;
 
 impl Selector {
     /// The objects whose selection (LOD or culled) changed in the last
-    /// `select*` call, compared with what [`selection`](Self::selection)
-    /// read before it (LOD 0 for objects added since, and for objects
-    /// whose profile changed), in no particular order. An object whose
+    /// `select*` call, compared with the call before, in no particular
+    /// order. Objects added since, or whose profile changed since, count
+    /// as culled before: they are listed unless culled now. An object whose
     /// selection did not change is not in it. The list's storage is
     /// reused from frame to frame.
     pub fn changed(&self) -> &[ObjectId] {

@@ -75,7 +75,9 @@ impl Selector {
 
     /// Adds an object and returns its id. Objects whose profile has one
     /// LOD are kept apart and never enter the selection loop. Its
-    /// selection reads LOD 0 until the next `select*` call.
+    /// selection reads LOD 0 until the next `select*` call; the change
+    /// list takes it as culled before that call, so it is listed on its
+    /// first frame unless culled there (and does not fade in).
     pub fn add_object(&mut self, desc: ObjectDesc) -> Result<ObjectId> {
         let profile = self.profile_index(desc.profile)?;
         let (center, radius, rotation) = validate_pose(desc.center, desc.radius, desc.rotation)?;
@@ -134,8 +136,8 @@ impl Selector {
     /// same place). Its id, pose, radius, bias, LOD range and motion
     /// history are kept (a bias or range beyond the new profile's LODs
     /// clamps to them); its selection reads LOD 0 until the next `select*`
-    /// call, its fade ends, and the next change list lists it if its LOD
-    /// there is not 0.
+    /// call, its fade ends, and it is new to the change list (listed on the
+    /// next frame unless culled there, without a fade).
     pub fn set_profile(&mut self, id: ObjectId, profile: ProfileId) -> Result<()> {
         let slot = self.slot(id)?;
         let p = self.profile_index(profile)?;
@@ -154,7 +156,7 @@ impl Selector {
         }
         let slot = self.slot(id)?;
         self.selections[slot] = Selection(0);
-        self.previous[slot] = Selection(0);
+        self.previous[slot] = Selection::CULLED;
         if self.handles[id.index as usize].fade != NONE {
             self.remove_fade(self.handles[id.index as usize].fade as usize);
         }
@@ -228,16 +230,24 @@ impl Selector {
             n
         };
         self.selections[slot] = Selection(0);
-        self.previous[slot] = Selection(0);
+        self.previous[slot] = Selection::CULLED;
         self.slot_ids[slot] = id;
         self.handles[id.index as usize].slot = slot as u32;
     }
 
-    /// A new last slot for `id`.
+    /// A new last slot for `id`. The per-frame lists grow here, with the
+    /// objects, so that frames never allocate: they can hold every object.
     fn push_slot(&mut self, id: ObjectId) {
         self.selections.push(Selection(0));
         self.previous.push(Selection(0));
         self.slot_ids.push(id);
+        let n = self.selections.len();
+        self.changed.reserve(n - self.changed.len());
+        self.switched_from.reserve(n - self.switched_from.len());
+        let fade_s = self.settings.fade_time_s;
+        if fade_s.is_finite() && fade_s > 0.0 {
+            self.fades.reserve(n - self.fades.len());
+        }
     }
 
     /// Takes the object at `slot` out of the store, moving another into
