@@ -566,3 +566,34 @@ proptest! {
         }
     }
 }
+
+/// On rayon, biases and diagnostics together select as on one thread
+/// (the loop's parallel split hands out both outputs).
+#[cfg(feature = "parallel")]
+#[test]
+fn biased_diagnostics_on_rayon_match_one_thread() {
+    let make = |parallel_min_objects| {
+        let (mut sel, profiles) = selector(SelectorSettings {
+            parallel_min_objects,
+            ..Default::default()
+        });
+        let ids: Vec<ObjectId> = descs(20_000, 12, profiles)
+            .into_iter()
+            .map(|d| sel.add_object(d).unwrap())
+            .collect();
+        for &id in ids.iter().step_by(3) {
+            sel.set_bias(id, 3.0).unwrap();
+        }
+        (sel, ids)
+    };
+    let (mut serial, ids) = make(usize::MAX);
+    let (mut parallel, _) = make(0);
+    for f in 0..3 {
+        serial.select_with_diagnostics(&frame(f)).unwrap();
+        parallel.select_with_diagnostics(&frame(f)).unwrap();
+        assert_eq!(serial.selections(), parallel.selections());
+        for &id in &ids {
+            assert_eq!(serial.diagnostics(id), parallel.diagnostics(id));
+        }
+    }
+}
