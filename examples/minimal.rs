@@ -20,7 +20,8 @@ fn main() -> Result<(), acuity::Error> {
     // A 1920x1080 screen spanning 90x58.7 degrees of the viewer's field.
     let display = Display::new([1920, 1080], [90.0, 58.7])?;
     let settings = SelectorSettings {
-        fade_time_s: 0.25, // cross-fade LOD switches over a quarter second
+        track_changes: true, // list the objects whose LOD changed each frame
+        fade_time_s: 0.25,   // and cross-fade switches over a quarter second
         ..SelectorSettings::default()
     };
     let mut selector = Selector::new(display, settings);

@@ -106,8 +106,30 @@ fn a_removed_id_is_refused_even_once_its_entry_is_reused() {
     let c = sel.add_object(d[1]).unwrap();
     assert_ne!(a, c);
     assert!(sel.contains(c) && !sel.contains(a));
-    let other = Selector::new(display(), SelectorSettings::default());
-    assert!(!other.contains(c));
+}
+
+#[test]
+fn adding_after_removing_most_objects_keeps_the_lists_working() {
+    let settings = SelectorSettings {
+        fade_time_s: 0.1,
+        ..Default::default()
+    };
+    let (mut sel, profiles) = selector(settings);
+    let all = descs(100, 13, profiles);
+    let ids: Vec<ObjectId> = all.iter().map(|d| sel.add_object(*d).unwrap()).collect();
+    sel.select(&frame(0)).unwrap();
+    assert!(sel.changed().len() > 20, "{}", sel.changed().len());
+    let visible: Vec<bool> = ids.iter().map(|&id| !sel.selection(id).is_culled()).collect();
+    let sel_was_culled = |d: &ObjectDesc| !visible[all.iter().position(|x| x == d).unwrap()];
+    for &id in &ids[..90] {
+        sel.remove_object(id).unwrap();
+    }
+    // The change list of the last frame is longer than the objects left.
+    let seen = (0..90).find(|&i| !sel_was_culled(&all[i])).unwrap();
+    let again = sel.add_object(all[seen]).unwrap();
+    sel.select(&frame(0)).unwrap();
+    assert!(sel.changed().contains(&again));
+    assert_eq!(sel.object_count(), 11);
 }
 
 #[test]
@@ -144,7 +166,7 @@ fn changing_profile_keeps_the_id_and_selects_as_the_new_profile() {
     for (i, (&id, d)) in ids.iter().zip(&all).enumerate() {
         sel.set_profile(id, swapped(d.profile, i)).unwrap();
         assert_eq!(sel.profile_of(id).unwrap(), swapped(d.profile, i));
-        assert_eq!(sel.selection(id), Selection::default());
+        assert!(sel.selection(id).is_culled(), "not selected since");
     }
     let mut twin = Selector::new(display(), settings);
     for p in [
@@ -194,7 +216,10 @@ fn selections_and_object_ids_are_parallel_slices_of_every_object() {
 
 #[test]
 fn the_change_list_holds_exactly_the_objects_whose_selection_changed() {
-    let (mut sel, profiles) = selector(SelectorSettings::default());
+    let (mut sel, profiles) = selector(SelectorSettings {
+        track_changes: true,
+        ..Default::default()
+    });
     let ids: Vec<ObjectId> = descs(500, 6, profiles)
         .into_iter()
         .map(|d| sel.add_object(d).unwrap())
@@ -227,6 +252,17 @@ fn the_change_list_holds_exactly_the_objects_whose_selection_changed() {
     sel.select(&still).unwrap();
     sel.select(&still).unwrap();
     assert!(sel.changed().is_empty(), "{:?}", sel.changed());
+}
+
+#[test]
+fn without_change_tracking_the_change_list_stays_empty() {
+    let (mut sel, profiles) = selector(SelectorSettings::default());
+    for d in descs(50, 6, profiles) {
+        sel.add_object(d).unwrap();
+    }
+    sel.select(&frame(0)).unwrap();
+    assert!(sel.selections().iter().any(|s| !s.is_culled()));
+    assert!(sel.changed().is_empty());
 }
 
 /// An object straight ahead at `distance`, of radius 1.

@@ -1,7 +1,10 @@
 //! What changed this frame: the objects whose selection differs from the
-//! previous call's (found by comparing 64 selections at a time, so a frame
-//! where little changes costs about a byte read per object), and the
-//! cross-fades those switches start, advance or end.
+//! previous call's, and the cross-fades those switches start, advance or
+//! end. Each `select*` call swaps the selections with last frame's (free)
+//! and writes them anew; with change tracking on, the two are then
+//! compared 64 selections at once, object by object only in groups that
+//! changed, and the ids of the changed ones are read in a pass of their
+//! own, whose cache misses overlap.
 
 use super::objects::NONE;
 use super::{Fade, FrameInput, ObjectId, Selector};
@@ -11,11 +14,14 @@ const GROUP: usize = 64;
 
 impl Selector {
     /// The objects whose selection (LOD or culled) changed in the last
-    /// `select*` call, compared with the call before, in no particular
-    /// order. Objects added since, or whose profile changed since, count
-    /// as culled before: they are listed unless culled now. An object whose
-    /// selection did not change is not in it. The list's storage is
-    /// reused from frame to frame.
+    /// `select*` call, in no particular order, with
+    /// [`SelectorSettings::track_changes`](super::SelectorSettings) on (or
+    /// cross-fades); empty otherwise. Objects added, or given another
+    /// profile, since the call before count as culled before: they are
+    /// listed unless culled now. An object whose selection did not change
+    /// is not in it; one removed since the call still is (check with
+    /// [`contains`](Self::contains)). Its storage is reused from frame to
+    /// frame.
     pub fn changed(&self) -> &[ObjectId] {
         &self.changed
     }
@@ -38,34 +44,45 @@ impl Selector {
         }
     }
 
-    /// Lists the changed objects, makes this frame's selections the
-    /// previous ones, and moves the fades on by the frame's `dt_s`.
-    pub(super) fn finish_frame(&mut self, frame: &FrameInput) {
+    /// Lists the objects whose selection differs from last frame's.
+    fn list_changes(&mut self) {
         self.changed.clear();
         self.switched_from.clear();
+        self.changed_slots.clear();
         for (g, (now, before)) in self
             .selections
             .chunks(GROUP)
-            .zip(self.previous.chunks_mut(GROUP))
+            .zip(self.previous.chunks(GROUP))
             .enumerate()
         {
             let differ = now
                 .iter()
-                .zip(before.iter())
+                .zip(before)
                 .fold(0u8, |acc, (a, b)| acc | (a.0 ^ b.0));
             if differ == 0 {
                 continue;
             }
-            for (i, (a, b)) in now.iter().zip(before.iter_mut()).enumerate() {
+            for (i, (a, b)) in now.iter().zip(before).enumerate() {
                 if a != b {
-                    self.changed.push(self.slot_ids[g * GROUP + i]);
+                    self.changed_slots.push((g * GROUP + i) as u32);
                     self.switched_from.push(*b);
-                    *b = *a;
                 }
             }
         }
+        let ids = &self.slot_ids;
+        self.changed
+            .extend(self.changed_slots.iter().map(|&s| ids[s as usize]));
+    }
+
+    /// After a frame's selections are final: lists the changes and moves
+    /// the fades on by the frame's `dt_s`, as the settings ask.
+    pub(super) fn finish_frame(&mut self, frame: &FrameInput) {
         let fade_s = self.settings.fade_time_s;
-        if fade_s.is_finite() && fade_s > 0.0 {
+        let fading = fade_s.is_finite() && fade_s > 0.0;
+        if self.settings.track_changes || fading {
+            self.list_changes();
+        }
+        if fading {
             self.advance_fades(frame.dt_s, fade_s);
         }
     }

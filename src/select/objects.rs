@@ -59,7 +59,7 @@ impl Selector {
             Some(h) if h.generation == id.generation && h.slot != NONE => Ok(h.slot as usize),
             _ => Err(Error::invalid(
                 "id",
-                format!("{id:?} is not in this selector (removed, or from another one)"),
+                format!("{id:?} is not in this selector (was it removed?)"),
             )),
         }
     }
@@ -75,9 +75,9 @@ impl Selector {
 
     /// Adds an object and returns its id. Objects whose profile has one
     /// LOD are kept apart and never enter the selection loop. Its
-    /// selection reads LOD 0 until the next `select*` call; the change
-    /// list takes it as culled before that call, so it is listed on its
-    /// first frame unless culled there (and does not fade in).
+    /// selection reads culled until the next `select*` call, so it is
+    /// listed as changed on its first frame unless culled there (and does
+    /// not fade in).
     pub fn add_object(&mut self, desc: ObjectDesc) -> Result<ObjectId> {
         let profile = self.profile_index(desc.profile)?;
         let (center, radius, rotation) = validate_pose(desc.center, desc.radius, desc.rotation)?;
@@ -135,9 +135,9 @@ impl Selector {
     /// Gives an object another profile (for example another asset at the
     /// same place). Its id, pose, radius, bias, LOD range and motion
     /// history are kept (a bias or range beyond the new profile's LODs
-    /// clamps to them); its selection reads LOD 0 until the next `select*`
-    /// call, its fade ends, and it is new to the change list (listed on the
-    /// next frame unless culled there, without a fade).
+    /// clamps to them); its selection reads culled until the next
+    /// `select*` call, its fade ends, and it is new to the change list
+    /// (listed on the next frame unless culled there, without a fade).
     pub fn set_profile(&mut self, id: ObjectId, profile: ProfileId) -> Result<()> {
         let slot = self.slot(id)?;
         let p = self.profile_index(profile)?;
@@ -155,8 +155,7 @@ impl Selector {
             self.insert(id, placement, p);
         }
         let slot = self.slot(id)?;
-        self.selections[slot] = Selection(0);
-        self.previous[slot] = Selection::CULLED;
+        self.selections[slot] = Selection::CULLED;
         if self.handles[id.index as usize].fade != NONE {
             self.remove_fade(self.handles[id.index as usize].fade as usize);
         }
@@ -173,7 +172,9 @@ impl Selector {
         }))
     }
 
-    /// Whether `id` names an object of this selector (not removed).
+    /// Whether `id` names a live object of this selector: false once it
+    /// was removed. (An id from another selector is not told apart: it
+    /// may name an object here.)
     pub fn contains(&self, id: ObjectId) -> bool {
         self.slot(id).is_ok()
     }
@@ -229,7 +230,8 @@ impl Selector {
             });
             n
         };
-        self.selections[slot] = Selection(0);
+        // Not selected yet: culled, to the change list too.
+        self.selections[slot] = Selection::CULLED;
         self.previous[slot] = Selection::CULLED;
         self.slot_ids[slot] = id;
         self.handles[id.index as usize].slot = slot as u32;
@@ -242,11 +244,14 @@ impl Selector {
         self.previous.push(Selection(0));
         self.slot_ids.push(id);
         let n = self.selections.len();
-        self.changed.reserve(n - self.changed.len());
-        self.switched_from.reserve(n - self.switched_from.len());
+        self.changed.reserve(n.saturating_sub(self.changed.len()));
+        self.changed_slots
+            .reserve(n.saturating_sub(self.changed_slots.len()));
+        self.switched_from
+            .reserve(n.saturating_sub(self.switched_from.len()));
         let fade_s = self.settings.fade_time_s;
         if fade_s.is_finite() && fade_s > 0.0 {
-            self.fades.reserve(n - self.fades.len());
+            self.fades.reserve(n.saturating_sub(self.fades.len()));
         }
     }
 
@@ -374,8 +379,8 @@ impl Selector {
         self.selections.len()
     }
 
-    /// The selection of an object from the last `select*` call (LOD 0
-    /// before the first). Panics if `id` was removed or is from another
+    /// The selection of an object from the last `select*` call (culled
+    /// before its first). Panics if `id` was removed or is from another
     /// selector ([`contains`](Self::contains) tells).
     pub fn selection(&self, id: ObjectId) -> Selection {
         match self.slot(id) {

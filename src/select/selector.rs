@@ -33,7 +33,8 @@ use super::{
 /// # fn main() -> Result<(), acuity::Error> {
 /// # let profile = acuity::profile_for_docs();
 /// let display = Display::new([1920, 1080], [90.0, 58.7])?;
-/// let mut selector = Selector::new(display, SelectorSettings::default());
+/// let settings = SelectorSettings { track_changes: true, ..Default::default() };
+/// let mut selector = Selector::new(display, settings);
 /// let profile = selector.add_profile(&profile)?;
 /// let id = selector.add_object(ObjectDesc {
 ///     center: glam::DVec3::new(0.0, 0.0, -20.0),
@@ -86,7 +87,8 @@ pub struct Selector {
     /// `i % BLOCK` of block `i / BLOCK`.
     pub(super) blocks: Vec<Block>,
     pub(super) motion: Vec<MotionBlock>,
-    /// Per slot: the selection, last frame's, and the object's id.
+    /// Per slot: the selection, last frame's (the two are swapped before
+    /// the loop writes every selection anew), and the object's id.
     pub(super) selections: Vec<Selection>,
     pub(super) previous: Vec<Selection>,
     pub(super) slot_ids: Vec<ObjectId>,
@@ -102,9 +104,11 @@ pub struct Selector {
     /// The objects with a bias or an LOD range, and how many have a bias.
     pub(super) adjusted: Vec<Adjust>,
     pub(super) biased: usize,
-    /// The objects whose selection changed in the last call, and what
-    /// they had before.
+    /// The objects whose selection changed in the last call (once
+    /// listed), their slots, and what they had before; with capacity for
+    /// every object, so that frames never allocate.
     pub(super) changed: Vec<ObjectId>,
+    pub(super) changed_slots: Vec<u32>,
     pub(super) switched_from: Vec<Selection>,
     pub(super) fades: Vec<Fade>,
 }
@@ -139,6 +143,7 @@ impl Selector {
             adjusted: Vec::new(),
             biased: 0,
             changed: Vec::new(),
+            changed_slots: Vec::new(),
             switched_from: Vec::new(),
             fades: Vec::new(),
         }
@@ -498,6 +503,10 @@ impl Selector {
         c.pursued = self.pursued_slot(frame.gaze.pursued);
         self.gaze_world = gaze_world;
         let multi = self.object_profiles.len();
+        // Last frame's selections become the previous ones; the loop writes
+        // every selection of objects with several LODs, and the one below
+        // every single-LOD object's.
+        std::mem::swap(&mut self.selections, &mut self.previous);
         if budget {
             self.budget.resize(multi, BudgetEntry::default());
         }
@@ -536,6 +545,8 @@ impl Selector {
                     Selection(0)
                 };
             }
+        } else {
+            single_selections.fill(Selection(0));
         }
         Ok(())
     }
