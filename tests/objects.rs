@@ -119,7 +119,10 @@ fn adding_after_removing_most_objects_keeps_the_lists_working() {
     let ids: Vec<ObjectId> = all.iter().map(|d| sel.add_object(*d).unwrap()).collect();
     sel.select(&frame(0)).unwrap();
     assert!(sel.changed().len() > 20, "{}", sel.changed().len());
-    let visible: Vec<bool> = ids.iter().map(|&id| !sel.selection(id).is_culled()).collect();
+    let visible: Vec<bool> = ids
+        .iter()
+        .map(|&id| !sel.selection(id).is_culled())
+        .collect();
     let sel_was_culled = |d: &ObjectDesc| !visible[all.iter().position(|x| x == d).unwrap()];
     for &id in &ids[..90] {
         sel.remove_object(id).unwrap();

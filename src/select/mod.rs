@@ -234,9 +234,8 @@ pub struct SelectorSettings {
     pub saccade_threshold_deg_per_s: f32,
     /// Whether each `select*` call lists the objects whose selection
     /// changed ([`Selector::changed`]); off by default. It costs a byte
-    /// compared per object and a few ns per change: measured, 0.x ns per
-    /// object at 1e5 objects, 1.x at 1e6 (`docs/selection.md`).
-    /// Cross-fades turn it on.
+    /// compared per object and a cache miss or so per change (measured in
+    /// `docs/selection.md`). Cross-fades turn it on.
     pub track_changes: bool,
     /// Length of a cross-fade between LODs, s ([`Selector::fades`]).
     /// 0 (the default), and any value not finite and > 0: no cross-fades,

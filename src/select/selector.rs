@@ -406,7 +406,8 @@ impl Selector {
         })
     }
 
-    /// The LOD of the object in `slot` at scale `s`, before its LOD range.
+    /// The LOD an object with budget entry `entry` takes at scale `s`,
+    /// before its LOD range.
     fn lod_at(&self, entry: &BudgetEntry, profile: usize, scale: f32) -> usize {
         let p = &self.profiles[profile];
         count_coarser(
