@@ -136,7 +136,8 @@ pub struct ProfileId(u32);
 pub struct Selection(u8);
 
 impl Selection {
-    /// Outside the view frustum or behind the camera.
+    /// Outside the view frustum or behind the camera, or not selected
+    /// yet (an object added since the last `select*` call).
     pub const CULLED: Self = Self(u8::MAX);
 
     /// The chosen LOD, or `None` when culled.

@@ -390,9 +390,9 @@ impl Selector {
     }
 
     /// Every object's selection from the last `select*` call, in the
-    /// order of [`object_ids`](Self::object_ids) (slot order: it changes
-    /// when objects are removed or change profile between single and
-    /// several LODs).
+    /// order of [`object_ids`](Self::object_ids): storage order, which
+    /// changes as objects are added, removed or change profile (objects
+    /// with one LOD are kept after the others).
     pub fn selections(&self) -> &[Selection] {
         &self.selections
     }
