@@ -10,6 +10,11 @@
 //! fraction of objects left after culling over the cycle is printed per
 //! scene (about 0.75 with this scene), to read the time per object against.
 //!
+//! `single_thread_tracked` (1e5 and 1e6 objects) is the widest
+//! single-thread case with the change list on, and
+//! `single_thread_adjusted` (1e5) with every 100th object biased, every
+//! 100th other one with an LOD range and cross-fades on: what those cost.
+//!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
 
@@ -29,11 +34,24 @@ use glam::{DVec3, Quat, Vec3};
 /// Frames per iteration: the camera swings out over 4 steps and back.
 const POSES: usize = 8;
 
-fn scene(n: usize, parallel: bool, simd: SimdLevel) -> (Selector, Vec<ObjectId>) {
+/// What a scene turns on besides the default settings.
+#[derive(Clone, Copy, PartialEq)]
+enum Extras {
+    None,
+    /// The change list.
+    Tracked,
+    /// Biases, LOD ranges and cross-fades.
+    Adjusted,
+}
+
+fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
+    let adjusted = extras == Extras::Adjusted;
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
     let settings = SelectorSettings {
         parallel_min_objects: if parallel { 0 } else { usize::MAX },
         simd,
+        track_changes: extras == Extras::Tracked,
+        fade_time_s: if adjusted { 0.2 } else { 0.0 },
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);
@@ -59,7 +77,16 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel) -> (Selector, Vec<ObjectId>)
             })
             .unwrap()
         })
-        .collect();
+        .collect::<Vec<_>>();
+    if adjusted {
+        for (i, &id) in ids.iter().enumerate() {
+            match i % 100 {
+                0 => sel.set_bias(id, 2.0).unwrap(),
+                50 => sel.set_lod_range(id, 1..=2).unwrap(),
+                _ => {}
+            }
+        }
+    }
     (sel, ids)
 }
 
@@ -89,13 +116,38 @@ fn bench_select(c: &mut Criterion) {
             group.sample_size(10);
             group.sampling_mode(SamplingMode::Flat);
         }
-        for (name, parallel, simd) in [
-            ("single_thread", false, SimdLevel::Widest),
-            ("single_thread_avx2", false, SimdLevel::Avx2),
-            ("single_thread_baseline", false, SimdLevel::Baseline),
-            ("parallel", true, SimdLevel::Widest),
+        for (name, parallel, simd, extras) in [
+            ("single_thread", false, SimdLevel::Widest, Extras::None),
+            (
+                "single_thread_tracked",
+                false,
+                SimdLevel::Widest,
+                Extras::Tracked,
+            ),
+            (
+                "single_thread_adjusted",
+                false,
+                SimdLevel::Widest,
+                Extras::Adjusted,
+            ),
+            ("single_thread_avx2", false, SimdLevel::Avx2, Extras::None),
+            (
+                "single_thread_baseline",
+                false,
+                SimdLevel::Baseline,
+                Extras::None,
+            ),
+            ("parallel", true, SimdLevel::Widest, Extras::None),
         ] {
-            let (mut sel, ids) = scene(n, parallel, simd);
+            let wanted = match extras {
+                Extras::None => true,
+                Extras::Tracked => n >= 100_000,
+                Extras::Adjusted => n == 100_000,
+            };
+            if !wanted {
+                continue;
+            }
+            let (mut sel, ids) = scene(n, parallel, simd, extras);
             let mut visible = 0;
             for frame in &frames {
                 sel.select(frame).unwrap();

@@ -1,4 +1,5 @@
-//! Once warm, the frame loop allocates nothing.
+//! Once warm, the frame loop allocates nothing: with biases, LOD ranges,
+//! cross-fades and the change list too, and after objects were removed.
 #![allow(unsafe_code)] // A counting global allocator needs it; the library forbids unsafe code.
 
 mod common;
@@ -38,18 +39,30 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn warm_frames_allocate_nothing() {
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
-    let mut sel = Selector::new(display, SelectorSettings::default());
+    let settings = SelectorSettings {
+        fade_time_s: 0.1,
+        ..Default::default()
+    };
+    let mut sel = Selector::new(display, settings);
     let p = sel.add_profile(&four_lod_profile(1)).unwrap();
     let single = sel.add_profile(&single_lod_profile()).unwrap();
     let mut rng = Rng::new(1);
+    let mut ids = Vec::new();
     for i in 0..5000 {
-        sel.add_object(ObjectDesc {
-            center: rng.point(100.0),
-            radius: 1.0,
-            rotation: Quat::IDENTITY,
-            profile: if i % 10 == 0 { single } else { p },
-        })
-        .unwrap();
+        let id = sel
+            .add_object(ObjectDesc {
+                center: rng.point(100.0),
+                radius: 1.0,
+                rotation: Quat::IDENTITY,
+                profile: if i % 10 == 0 { single } else { p },
+            })
+            .unwrap();
+        match i % 7 {
+            0 => sel.set_bias(id, 2.5).unwrap(),
+            1 => sel.set_lod_range(id, 1..=2).unwrap(),
+            2 => sel.remove_object(id).unwrap(),
+            _ => ids.push(id),
+        }
     }
     let mut frame = FrameInput {
         camera: Camera {
@@ -65,14 +78,24 @@ fn warm_frames_allocate_nothing() {
     sel.select_with_diagnostics(&frame).unwrap();
     sel.select_within_budget(&frame, 100_000).unwrap();
     let before = allocations();
+    let (mut changes, mut fading) = (0, 0);
     for f in 0..20 {
         frame.camera.orientation = Quat::from_rotation_y(0.02 * f as f32);
         sel.select(&frame).unwrap();
+        changes += sel.changed().len();
         sel.select_with_diagnostics(&frame).unwrap();
+        changes += sel.changed().len();
         sel.select_within_budget(&frame, 100_000).unwrap();
+        changes += sel.changed().len();
+        fading += sel.fades().len();
     }
     let during = allocations() - before;
     assert_eq!(during, 0, "{during} allocations in 60 warm frames");
+    assert!(
+        changes > 1000 && fading > 100,
+        "{changes} changes, {fading} fades"
+    );
+    assert!(ids.iter().all(|&id| sel.contains(id)));
 }
 
 #[test]

@@ -89,7 +89,20 @@ pub(super) fn dispatch(
             .zip(selections.par_chunks_mut(CHUNK))
             .enumerate();
         match (diag_iter, budget_iter) {
-            (Some(d), _) => base.zip(d).for_each(|((i, ((o, m), s)), d)| {
+            (Some(d), Some(b)) => base.zip(d).zip(b).for_each(|(((i, ((o, m), s)), d), b)| {
+                kernel(
+                    c,
+                    o,
+                    m,
+                    (i * CHUNK) as u32,
+                    Outputs {
+                        selections: s,
+                        diagnostics: Some(d),
+                        budget: Some(b),
+                    },
+                )
+            }),
+            (Some(d), None) => base.zip(d).for_each(|((i, ((o, m), s)), d)| {
                 kernel(
                     c,
                     o,

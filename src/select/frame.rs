@@ -13,7 +13,7 @@ use crate::fastmath;
 use crate::viewpoints::{self, ViewpointLookup};
 
 use super::tables::{Ladder, ProfileRows, RowLayout, Tables};
-use super::{FrameInput, ObjectId, SINGLE_LOD_BIT, SelectorSettings, SimdLevel};
+use super::{FrameInput, SelectorSettings, SimdLevel};
 
 #[derive(Clone, Copy)]
 pub(super) struct FrameConsts<'a> {
@@ -78,10 +78,6 @@ pub(super) fn frame_consts<'a>(
     } else {
         1.0
     };
-    let pursued = match frame.gaze.pursued {
-        Some(ObjectId(i)) if i & SINGLE_LOD_BIT == 0 => i,
-        _ => u32::MAX,
-    };
     Ok(FrameConsts {
         cam_pos: frame.camera.position,
         world_to_eye,
@@ -106,7 +102,8 @@ pub(super) fn frame_consts<'a>(
         dt_valid,
         inv_dt: if dt_valid { 1.0 / dt } else { 0.0 },
         alpha,
-        pursued,
+        // The selector sets it: ids reach objects through its handles.
+        pursued: u32::MAX,
         rows: tables.rows,
         profiles: tables.profiles,
         lookups: tables.lookups,

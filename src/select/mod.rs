@@ -42,10 +42,17 @@
 //! and runs on rayon (feature `parallel`) above
 //! [`SelectorSettings::parallel_min_objects`].
 //!
-//! Code: `selector` (objects, profiles, selection within a budget),
-//! `store` and `tables` (the object blocks and the compiled profiles),
-//! `frame` (a frame's constants), `dispatch` (vector width and parallel
-//! split), `kernel` (the loop) and `rule` (rungs and LOD counts).
+//! After the loop, per-object adjustments (a bias on the threshold, LOD
+//! clamps) are applied to the few objects that have them and, when asked
+//! for, the selections are compared with the previous frame's 64 at a time
+//! to list the objects whose selection changed, and cross-fades advance.
+//!
+//! Code: `selector` (profiles, selection within a budget), `objects`
+//! (object handles, adding, removing, changing objects), `adjust` (bias
+//! and clamps), `changes` (the change list and cross-fades), `store` and
+//! `tables` (the object blocks and the compiled profiles), `frame` (a
+//! frame's constants), `dispatch` (vector width and parallel split),
+//! `kernel` (the loop) and `rule` (rungs and LOD counts).
 
 // Index loops over parallel fixed-size arrays are what vectorises here.
 #![allow(clippy::needless_range_loop)]
@@ -56,9 +63,12 @@ use crate::acuity::{Components, EccentricityModel, VelocityModel};
 use crate::camera::{Camera, Gaze};
 use crate::csf::Observer;
 
+mod adjust;
+mod changes;
 mod dispatch;
 mod frame;
 mod kernel;
+mod objects;
 mod rule;
 mod selector;
 mod store;
@@ -78,11 +88,43 @@ const NO_LOOKUP: u32 = u32::MAX;
 /// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
 pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
 const RAD_TO_DEG: f32 = 180.0 / std::f32::consts::PI;
-const SINGLE_LOD_BIT: u32 = 1 << 31;
 
 /// Handle of an object added to a [`Selector`].
+///
+/// An id stays valid until its object is removed, whatever else is added,
+/// removed or changed meanwhile (objects are stored densely and moved when
+/// others are removed; the id goes through a table of handles). After
+/// [`Selector::remove_object`] the id is stale: methods that take it
+/// return an error (the accessors [`Selector::selection`],
+/// [`Selector::diagnostics`] and [`Selector::fade`] panic), also once its
+/// table entry holds a new object, which gets a new generation (entries
+/// are reused; a generation
+/// repeats only after 2^32 reuses of one entry). Ids are not tied to their
+/// selector: one from another selector may name an object of this one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ObjectId(u32);
+pub struct ObjectId {
+    index: u32,
+    generation: u32,
+}
+
+/// An object's cross-fade from one LOD to another
+/// ([`SelectorSettings::fade_time_s`]), for a renderer to blend or dither:
+/// draw `from_lod` with weight `1 - fraction` and `to_lod` with weight
+/// `fraction` (with a screen-door dither, `to_lod` covers that fraction of
+/// the object's pixels and `from_lod` the complement).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fade {
+    /// The object.
+    pub object: ObjectId,
+    /// The LOD fading out.
+    pub from_lod: usize,
+    /// The LOD fading in: the object's current selection.
+    pub to_lod: usize,
+    /// How far the fade has gone, in `[0, 1)`: 0 on the frame of the
+    /// switch, then `dt_s / fade_time_s` more each frame; the fade ends
+    /// (and leaves [`Selector::fades`]) on the frame it would reach 1.
+    pub fraction: f32,
+}
 
 /// Handle of a profile added to a [`Selector`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -94,7 +136,8 @@ pub struct ProfileId(u32);
 pub struct Selection(u8);
 
 impl Selection {
-    /// Outside the view frustum or behind the camera.
+    /// Outside the view frustum or behind the camera, or not selected
+    /// yet (an object added since the last `select*` call).
     pub const CULLED: Self = Self(u8::MAX);
 
     /// The chosen LOD, or `None` when culled.
@@ -197,6 +240,26 @@ pub struct SelectorSettings {
     /// to the larger eye offset, so one selection is right for both eyes.
     /// Any value not finite and `> 0` counts as 0 (the default).
     pub radius_margin: f32,
+    /// Whether each `select*` call lists the objects whose selection
+    /// changed ([`Selector::changed`]); off by default. It costs a byte
+    /// compared per object and a cache miss or so per change (measured in
+    /// `docs/selection.md`). Cross-fades turn it on.
+    pub track_changes: bool,
+    /// Length of a cross-fade between LODs, s ([`Selector::fades`]).
+    /// 0 (the default), and any value not finite and > 0: no cross-fades,
+    /// LODs switch at once.
+    ///
+    /// A switch between two LODs starts a fade from the old LOD to the
+    /// new one. A switch during a fade: back to the LOD fading out reverses
+    /// the fade (the weights carry on from where they were); to a third
+    /// LOD starts a new fade from whichever of the two LODs had the larger
+    /// weight (the other, at most half visible, is dropped), so at most two
+    /// LODs are ever drawn. Switches to or from culled do not fade (the
+    /// object is out of view) and end a running fade, as do removing the
+    /// object and changing its profile. Fades do not change the
+    /// selections, and the triangle budget does not count the LOD fading
+    /// out.
+    pub fade_time_s: f32,
 }
 
 /// A gaze speed that only saccades reach, deg/s (smooth pursuit stays
@@ -235,6 +298,8 @@ impl Default for SelectorSettings {
             eyes_counter_rotate: true,
             saccade_threshold_deg_per_s: f32::INFINITY,
             radius_margin: 0.0,
+            track_changes: false,
+            fade_time_s: 0.0,
         }
     }
 }

@@ -2,24 +2,28 @@
 //! moving objects, and selecting for a frame, plain, with diagnostics or
 //! within a triangle budget; the loop itself is in `kernel`.
 
-use glam::{DVec3, Quat, Vec3};
+use std::collections::VecDeque;
 
-use crate::camera::{MAX_WORLD_COORDINATE, Tracker, normalized_rotation};
+use glam::Vec3;
+
+use crate::camera::Tracker;
 use crate::csf::Csf;
 use crate::display::Display;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::profile::Profile;
 use crate::rows;
 use crate::viewpoints::ViewpointLookup;
 
+use super::adjust::Adjust;
 use super::dispatch::{Outputs, dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
+use super::objects::{Handle, SingleRecord};
 use super::rule::count_coarser;
-use super::store::{Block, BudgetEntry, EMPTY_BLOCK, MotionBlock, NO_HISTORY};
+use super::store::{Block, BudgetEntry, MotionBlock};
 use super::tables::{CompiledProfile, Ladder, ProfileRows, RowLayout, Tables};
 use super::{
-    BLOCK, BudgetOutcome, Diagnostics, FrameInput, NO_LOOKUP, ObjectDesc, ObjectId, ProfileId,
-    SINGLE_LOD_BIT, Selection, SelectorSettings, ViewpointRule,
+    BudgetOutcome, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId, Selection,
+    SelectorSettings, ViewpointRule,
 };
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -29,7 +33,8 @@ use super::{
 /// # fn main() -> Result<(), acuity::Error> {
 /// # let profile = acuity::profile_for_docs();
 /// let display = Display::new([1920, 1080], [90.0, 58.7])?;
-/// let mut selector = Selector::new(display, SelectorSettings::default());
+/// let settings = SelectorSettings { track_changes: true, ..Default::default() };
+/// let mut selector = Selector::new(display, settings);
 /// let profile = selector.add_profile(&profile)?;
 /// let id = selector.add_object(ObjectDesc {
 ///     center: glam::DVec3::new(0.0, 0.0, -20.0),
@@ -45,6 +50,9 @@ use super::{
 /// };
 /// selector.select(&frame)?;
 /// println!("LOD {:?}", selector.selection(id).lod());
+/// for &changed in selector.changed() {
+///     println!("{changed:?} now {:?}", selector.selection(changed));
+/// }
 /// # Ok(()) }
 /// ```
 #[derive(Clone, Debug)]
@@ -63,8 +71,9 @@ pub struct Selector {
     /// Per profile: the start of the rows its objects use (viewpoint 0's
     /// block with the nearest-viewpoint rule and a lookup, else the worst
     /// case's).
-    profile_row0: Vec<u32>,
-    /// The profile of each object with more than one LOD.
+    pub(super) profile_row0: Vec<u32>,
+    /// The profile of each object with more than one LOD (so also their
+    /// count: they take slots `0..object_profiles.len()`).
     pub(super) object_profiles: Vec<u32>,
     pub(super) layout: RowLayout,
     pub(super) rows: Vec<f32>,
@@ -74,23 +83,34 @@ pub struct Selector {
     /// The gaze direction of the last frame in world axes, with an eye
     /// tracker (for saccade detection).
     gaze_world: Option<Vec3>,
-    /// Objects with more than one LOD: object `i` is lane `i % BLOCK` of
-    /// block `i / BLOCK`.
+    /// Objects with more than one LOD: the object in slot `i` is lane
+    /// `i % BLOCK` of block `i / BLOCK`.
     pub(super) blocks: Vec<Block>,
-    motion: Vec<MotionBlock>,
-    /// One per object with more than one LOD (so also their count).
+    pub(super) motion: Vec<MotionBlock>,
+    /// Per slot: the selection, last frame's (the two are swapped before
+    /// the loop writes every selection anew), and the object's id.
     pub(super) selections: Vec<Selection>,
+    pub(super) previous: Vec<Selection>,
+    pub(super) slot_ids: Vec<ObjectId>,
+    /// Per slot of an object with more than one LOD.
     pub(super) diagnostics: Vec<Diagnostics>,
-    budget: Vec<BudgetEntry>,
-    singles: Vec<SingleRecord>,
-    single_selections: Vec<Selection>,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct SingleRecord {
-    center: DVec3,
-    radius: f32,
-    triangles: u32,
+    pub(super) budget: Vec<BudgetEntry>,
+    /// Single-LOD objects, for slots `object_profiles.len()..`.
+    pub(super) singles: VecDeque<SingleRecord>,
+    /// Ids to slots (and to adjustments and fades); removed objects'
+    /// entries are free for reuse.
+    pub(super) handles: Vec<Handle>,
+    pub(super) free_handles: Vec<u32>,
+    /// The objects with a bias or an LOD range, and how many have a bias.
+    pub(super) adjusted: Vec<Adjust>,
+    pub(super) biased: usize,
+    /// The objects whose selection changed in the last call (once
+    /// listed), their slots, and what they had before; with capacity for
+    /// every object, so that frames never allocate.
+    pub(super) changed: Vec<ObjectId>,
+    pub(super) changed_slots: Vec<u32>,
+    pub(super) switched_from: Vec<Selection>,
+    pub(super) fades: Vec<Fade>,
 }
 
 impl Selector {
@@ -113,10 +133,19 @@ impl Selector {
             blocks: Vec::new(),
             motion: Vec::new(),
             selections: Vec::new(),
+            previous: Vec::new(),
+            slot_ids: Vec::new(),
             diagnostics: Vec::new(),
             budget: Vec::new(),
-            singles: Vec::new(),
-            single_selections: Vec::new(),
+            singles: VecDeque::new(),
+            handles: Vec::new(),
+            free_handles: Vec::new(),
+            adjusted: Vec::new(),
+            biased: 0,
+            changed: Vec::new(),
+            changed_slots: Vec::new(),
+            switched_from: Vec::new(),
+            fades: Vec::new(),
         }
     }
 
@@ -234,118 +263,6 @@ impl Selector {
         Ok(ProfileId(self.profiles.len() as u32 - 1))
     }
 
-    /// Adds an object. Objects whose profile has one LOD are kept apart
-    /// and never enter the selection loop.
-    pub fn add_object(&mut self, desc: ObjectDesc) -> Result<ObjectId> {
-        let profile = self.profiles.get(desc.profile.0 as usize).ok_or_else(|| {
-            Error::invalid(
-                "profile",
-                format!("{:?} is not in this selector", desc.profile),
-            )
-        })?;
-        let (center, radius, rotation) = validate_pose(desc.center, desc.radius, desc.rotation)?;
-        if profile.lod_count == 1 {
-            self.singles.push(SingleRecord {
-                center,
-                radius,
-                triangles: profile.triangles[0],
-            });
-            self.single_selections.push(Selection(0));
-            return Ok(ObjectId(SINGLE_LOD_BIT | (self.singles.len() as u32 - 1)));
-        }
-        let i = self.selections.len();
-        if i as u32 >= SINGLE_LOD_BIT - 1 {
-            return Err(Error::invalid("objects", "more than 2^31 objects"));
-        }
-        if i.is_multiple_of(BLOCK) {
-            self.blocks.push(EMPTY_BLOCK);
-            self.motion.push(NO_HISTORY);
-        }
-        let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
-        block.x[lane] = center.x;
-        block.y[lane] = center.y;
-        block.z[lane] = center.z;
-        block.radius[lane] = radius;
-        block.row0[lane] = self.profile_row0[desc.profile.0 as usize];
-        self.object_profiles.push(desc.profile.0);
-        for (a, q) in rotation.to_array().into_iter().enumerate() {
-            block.rotation[a][lane] = q;
-        }
-        self.selections.push(Selection(0));
-        self.diagnostics.push(Diagnostics::default());
-        Ok(ObjectId(i as u32))
-    }
-
-    /// Moves an object. Its velocity history is kept: the motion shows up
-    /// as retinal velocity in the next frame.
-    pub fn set_pose(&mut self, id: ObjectId, center: DVec3, rotation: Quat) -> Result<()> {
-        let radius = self.radius(id)?;
-        let (center, _, rotation) = validate_pose(center, radius, rotation)?;
-        if id.0 & SINGLE_LOD_BIT != 0 {
-            self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].center = center;
-        } else {
-            let i = id.0 as usize;
-            let (block, lane) = (&mut self.blocks[i / BLOCK], i % BLOCK);
-            block.x[lane] = center.x;
-            block.y[lane] = center.y;
-            block.z[lane] = center.z;
-            for (a, q) in rotation.to_array().into_iter().enumerate() {
-                block.rotation[a][lane] = q;
-            }
-        }
-        Ok(())
-    }
-
-    /// Changes an object's bounding radius (world units, finite, `>= 0`).
-    pub fn set_radius(&mut self, id: ObjectId, radius: f32) -> Result<()> {
-        self.radius(id)?;
-        if !(radius.is_finite() && radius >= 0.0) {
-            return Err(Error::invalid(
-                "radius",
-                format!("{radius} is not a finite radius >= 0"),
-            ));
-        }
-        if id.0 & SINGLE_LOD_BIT != 0 {
-            self.singles[(id.0 & !SINGLE_LOD_BIT) as usize].radius = radius;
-        } else {
-            let i = id.0 as usize;
-            self.blocks[i / BLOCK].radius[i % BLOCK] = radius;
-        }
-        Ok(())
-    }
-
-    fn radius(&self, id: ObjectId) -> Result<f32> {
-        let i = (id.0 & !SINGLE_LOD_BIT) as usize;
-        let r = if id.0 & SINGLE_LOD_BIT != 0 {
-            self.singles.get(i).map(|s| s.radius)
-        } else {
-            (i < self.selections.len()).then(|| self.blocks[i / BLOCK].radius[i % BLOCK])
-        };
-        r.ok_or_else(|| Error::invalid("id", format!("{id:?} is not in this selector")))
-    }
-
-    /// Number of objects, single-LOD ones included.
-    pub fn object_count(&self) -> usize {
-        self.selections.len() + self.singles.len()
-    }
-
-    /// The selection of an object from the last `select*` call (LOD 0
-    /// before the first). Panics if `id` is not from this selector.
-    pub fn selection(&self, id: ObjectId) -> Selection {
-        if id.0 & SINGLE_LOD_BIT != 0 {
-            self.single_selections[(id.0 & !SINGLE_LOD_BIT) as usize]
-        } else {
-            self.selections[id.0 as usize]
-        }
-    }
-
-    /// Diagnostics of an object from the last
-    /// [`select_with_diagnostics`](Self::select_with_diagnostics) call;
-    /// `None` for single-LOD objects, which are never analysed.
-    pub fn diagnostics(&self, id: ObjectId) -> Option<Diagnostics> {
-        (id.0 & SINGLE_LOD_BIT == 0).then(|| self.diagnostics[id.0 as usize])
-    }
-
     /// Triangles drawn with the current selections (culled objects: 0).
     pub fn triangles(&self) -> u64 {
         let multi: u64 = self
@@ -359,9 +276,9 @@ impl Selector {
     fn single_triangles(&self) -> u64 {
         self.singles
             .iter()
-            .zip(&self.single_selections)
+            .zip(&self.selections[self.multi()..])
             .filter(|(_, s)| !s.is_culled())
-            .map(|(o, _)| o.triangles as u64)
+            .map(|(o, _)| self.profiles[o.profile as usize].triangles[0] as u64)
             .sum()
     }
 
@@ -371,49 +288,39 @@ impl Selector {
     }
 }
 
-fn validate_pose(center: DVec3, radius: f32, rotation: Quat) -> Result<(DVec3, f32, Quat)> {
-    if !center.is_finite() || center.abs().max_element() > MAX_WORLD_COORDINATE {
-        return Err(Error::invalid(
-            "center",
-            format!("{center} is not finite or beyond ±{MAX_WORLD_COORDINATE:e}"),
-        ));
-    }
-    if !(radius.is_finite() && radius >= 0.0 && (radius as f64) <= MAX_WORLD_COORDINATE) {
-        return Err(Error::invalid(
-            "radius",
-            format!("{radius} is not a finite radius >= 0"),
-        ));
-    }
-    Ok((center, radius, normalized_rotation(rotation, "rotation")?))
-}
-
-/// Which outputs a pass writes besides the selections.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Extra {
-    None,
-    Diagnostics,
-    Budget,
-}
-
 impl Selector {
     /// Selects every object's LOD for one frame; read the results with
-    /// [`selection`](Self::selection). Fails only on an invalid frame
-    /// (non-finite camera or gaze, `scale` not in `(0, 1]`), leaving every
-    /// state unchanged.
+    /// [`selection`](Self::selection), [`selections`](Self::selections),
+    /// [`changed`](Self::changed) and [`fades`](Self::fades). Fails only on
+    /// an invalid frame (non-finite camera or gaze, `scale` not in
+    /// `(0, 1]`), leaving every state unchanged.
     pub fn select(&mut self, frame: &FrameInput) -> Result<()> {
-        self.run(frame, frame.scale, Extra::None)
+        let biased = self.biased > 0;
+        self.run(frame, frame.scale, false, biased)?;
+        if !self.adjusted.is_empty() {
+            self.apply_adjustments(biased, false);
+        }
+        self.finish_frame(frame);
+        Ok(())
     }
 
     /// As [`select`](Self::select), and records each object's
     /// [`Diagnostics`].
     pub fn select_with_diagnostics(&mut self, frame: &FrameInput) -> Result<()> {
-        self.run(frame, frame.scale, Extra::Diagnostics)
+        let biased = self.biased > 0;
+        self.run(frame, frame.scale, true, biased)?;
+        if !self.adjusted.is_empty() {
+            self.apply_adjustments(biased, true);
+        }
+        self.finish_frame(frame);
+        Ok(())
     }
 
     /// Predictive fixed-frame-rate selection (after Funkhouser & Séquin
     /// 1993, with `s` as the one knob): picks the largest `s` in
     /// `[settings.min_scale, frame.scale]` whose LODs together stay within
     /// `triangle_budget`, before anything is drawn, and selects with it.
+    /// Objects' biases and LOD ranges apply as in [`select`](Self::select).
     ///
     /// Every object's LOD is a step function of `s` with breakpoints at
     /// `prefix_min / (H u)` (see [`crate::rows`]); the breakpoints' triangle savings
@@ -425,10 +332,9 @@ impl Selector {
         frame: &FrameInput,
         triangle_budget: u64,
     ) -> Result<BudgetOutcome> {
-        self.budget
-            .resize(self.selections.len(), BudgetEntry::default());
         let s_max = checked_scale(frame.scale)?;
-        self.run(frame, 1.0, Extra::Budget)?;
+        self.run(frame, 1.0, false, true)?;
+        self.bias_budget_entries();
         let fixed = self.single_triangles();
         let s_min = self.settings.min_scale.clamp(1e-6, s_max);
         let mut scale = s_max;
@@ -437,25 +343,40 @@ impl Selector {
             const BINS: usize = 256;
             let (lo, hi) = (s_min.ln(), s_max.ln());
             let width = ((hi - lo) / BINS as f32).max(f32::MIN_POSITIVE);
-            let mut saved = [0u64; BINS];
-            for (entry, p) in self.budget.iter().zip(self.object_profiles()) {
-                if entry.row == u32::MAX {
-                    continue;
-                }
-                let p = &self.profiles[p];
-                let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
-                for (j, &f) in row.iter().enumerate() {
-                    // LOD > j exactly when s < f / k.
-                    let s_break = f / entry.k_cdiam;
-                    if s_break <= s_min || s_break > s_max {
-                        continue;
+            let mut saved = [0i64; BINS];
+            // Each breakpoint's saving goes to its bin; `keep` says which
+            // transitions count (an LOD range stops some).
+            let mut add =
+                |entry: &BudgetEntry, p: usize, sign: i64, keep: &dyn Fn(usize) -> bool| {
+                    let p = &self.profiles[p];
+                    let row = &self.rows[entry.row as usize..][..p.lod_count - 1];
+                    for (j, &f) in row.iter().enumerate() {
+                        // LOD > j exactly when s < f / k.
+                        let s_break = f / entry.k_cdiam;
+                        if s_break <= s_min || s_break > s_max || !keep(j) {
+                            continue;
+                        }
+                        let bin = (((s_break.ln() - lo) / width) as usize).min(BINS - 1);
+                        saved[bin] += sign * (p.triangles[j] - p.triangles[j + 1]) as i64;
                     }
-                    let bin = (((s_break.ln() - lo) / width) as usize).min(BINS - 1);
-                    saved[bin] += (p.triangles[j] - p.triangles[j + 1]) as u64;
+                };
+            for (entry, p) in self.budget.iter().zip(self.object_profiles()) {
+                if entry.row != u32::MAX {
+                    add(entry, p, 1, &|_| true);
                 }
             }
-            let needed = triangles - triangle_budget;
-            let mut total = 0u64;
+            // A transition outside an object's LOD range changes nothing.
+            for a in &self.adjusted {
+                let slot = self.handles[a.handle as usize].slot as usize;
+                if let Some(entry) = self.budget.get(slot).filter(|e| e.row != u32::MAX) {
+                    let p = self.object_profiles[slot] as usize;
+                    let n = self.profiles[p].lod_count;
+                    let (lo_lod, hi_lod) = (a.clamp(0, n), a.clamp(usize::MAX, n));
+                    add(entry, p, -1, &|j| !(lo_lod <= j && j < hi_lod));
+                }
+            }
+            let needed = (triangles - triangle_budget) as i64;
+            let mut total = 0i64;
             let mut bin = BINS;
             while bin > 0 && total < needed {
                 bin -= 1;
@@ -474,6 +395,10 @@ impl Selector {
             }
         }
         self.apply_budget_scale(scale);
+        if !self.adjusted.is_empty() {
+            self.apply_adjustments(false, false);
+        }
+        self.finish_frame(frame);
         Ok(BudgetOutcome {
             scale,
             triangles,
@@ -481,20 +406,35 @@ impl Selector {
         })
     }
 
+    /// The LOD an object with budget entry `entry` takes at scale `s`,
+    /// before its LOD range.
+    fn lod_at(&self, entry: &BudgetEntry, profile: usize, scale: f32) -> usize {
+        let p = &self.profiles[profile];
+        count_coarser(
+            &self.rows[entry.row as usize..][..p.lod_count - 1],
+            scale * entry.k_cdiam,
+        )
+    }
+
     fn triangles_at(&self, scale: f32) -> u64 {
-        self.budget
+        let all: u64 = self
+            .budget
             .iter()
             .zip(self.object_profiles())
             .filter(|(e, _)| e.row != u32::MAX)
-            .map(|(e, p)| {
-                let p = &self.profiles[p];
-                let lod = count_coarser(
-                    &self.rows[e.row as usize..][..p.lod_count - 1],
-                    scale * e.k_cdiam,
-                );
-                p.triangles[lod] as u64
-            })
-            .sum()
+            .map(|(e, p)| self.profiles[p].triangles[self.lod_at(e, p, scale)] as u64)
+            .sum();
+        // The objects with an LOD range: the clamped LOD's triangles.
+        let mut adjusted = 0i64;
+        for a in &self.adjusted {
+            let slot = self.handles[a.handle as usize].slot as usize;
+            if let Some(e) = self.budget.get(slot).filter(|e| e.row != u32::MAX) {
+                let p = self.object_profiles[slot] as usize;
+                let (t, lod) = (&self.profiles[p].triangles, self.lod_at(e, p, scale));
+                adjusted += t[a.clamp(lod, t.len())] as i64 - t[lod] as i64;
+            }
+        }
+        all.saturating_add_signed(adjusted)
     }
 
     fn apply_budget_scale(&mut self, scale: f32) {
@@ -535,9 +475,18 @@ impl Selector {
         (floor, gaze_world)
     }
 
-    fn run(&mut self, frame: &FrameInput, scale_override: f32, extra: Extra) -> Result<()> {
+    /// The loop over every object, writing the selections and, when asked,
+    /// the diagnostics and the budget entries (each visible object's
+    /// threshold and row).
+    fn run(
+        &mut self,
+        frame: &FrameInput,
+        scale_override: f32,
+        diagnostics: bool,
+        budget: bool,
+    ) -> Result<()> {
         let (motion_floor_cpd, gaze_world) = self.frame_motion_floor(frame);
-        let c = frame_consts(
+        let mut c = frame_consts(
             &self.display,
             &self.settings,
             Tables {
@@ -552,7 +501,16 @@ impl Selector {
             frame,
             scale_override,
         )?;
+        c.pursued = self.pursued_slot(frame.gaze.pursued);
         self.gaze_world = gaze_world;
+        let multi = self.object_profiles.len();
+        // Last frame's selections become the previous ones; the loop writes
+        // every selection of objects with several LODs, and the one below
+        // every single-LOD object's.
+        std::mem::swap(&mut self.selections, &mut self.previous);
+        if budget {
+            self.budget.resize(multi, BudgetEntry::default());
+        }
         let comps = self.settings.components;
         let nearest = self.settings.viewpoint_rule == ViewpointRule::Nearest;
         let kernel = match (comps.velocity, comps.eccentricity, nearest) {
@@ -565,10 +523,11 @@ impl Selector {
             (true, true, false) => widest::<true, true, false>,
             (true, true, true) => widest::<true, true, true>,
         };
+        let (multi_selections, single_selections) = self.selections.split_at_mut(multi);
         let outputs = Outputs {
-            selections: &mut self.selections,
-            diagnostics: (extra == Extra::Diagnostics).then_some(&mut self.diagnostics[..]),
-            budget: (extra == Extra::Budget).then_some(&mut self.budget[..]),
+            selections: multi_selections,
+            diagnostics: diagnostics.then_some(&mut self.diagnostics[..]),
+            budget: budget.then_some(&mut self.budget[..]),
         };
         dispatch(
             &c,
@@ -579,7 +538,7 @@ impl Selector {
             self.settings.parallel_min_objects,
         );
         if c.cull {
-            for (o, sel) in self.singles.iter().zip(&mut self.single_selections) {
+            for (o, sel) in self.singles.iter().zip(single_selections) {
                 let p = c.world_to_eye * (o.center - c.cam_pos).as_vec3();
                 *sel = if outside_frustum(&c, p, o.radius) {
                     Selection::CULLED
@@ -587,6 +546,8 @@ impl Selector {
                     Selection(0)
                 };
             }
+        } else {
+            single_selections.fill(Selection(0));
         }
         Ok(())
     }

@@ -53,3 +53,52 @@ pub(super) struct BudgetEntry {
     /// Start of the object's prefix-minimum row; `u32::MAX` when culled.
     pub(super) row: u32,
 }
+
+/// One object's fields of a [`Block`], for moving an object between lanes.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Lane {
+    pub(super) center: [f64; 3],
+    pub(super) radius: f32,
+    pub(super) row0: u32,
+    pub(super) rotation: [f32; 4],
+}
+
+impl Block {
+    pub(super) fn lane(&self, lane: usize) -> Lane {
+        Lane {
+            center: [self.x[lane], self.y[lane], self.z[lane]],
+            radius: self.radius[lane],
+            row0: self.row0[lane],
+            rotation: [0, 1, 2, 3].map(|a| self.rotation[a][lane]),
+        }
+    }
+
+    pub(super) fn set_lane(&mut self, lane: usize, l: Lane) {
+        [self.x[lane], self.y[lane], self.z[lane]] = l.center;
+        self.radius[lane] = l.radius;
+        self.row0[lane] = l.row0;
+        for (a, q) in l.rotation.into_iter().enumerate() {
+            self.rotation[a][lane] = q;
+        }
+    }
+}
+
+impl MotionBlock {
+    /// One object's motion state: direction and smoothed velocity.
+    pub(super) fn lane(&self, lane: usize) -> ([f32; 3], f32) {
+        (
+            [0, 1, 2].map(|a| self.dir_eye[a][lane]),
+            self.velocity_deg_per_s[lane],
+        )
+    }
+
+    pub(super) fn set_lane(&mut self, lane: usize, (dir, velocity): ([f32; 3], f32)) {
+        for (a, d) in dir.into_iter().enumerate() {
+            self.dir_eye[a][lane] = d;
+        }
+        self.velocity_deg_per_s[lane] = velocity;
+    }
+}
+
+/// The motion state of an object without history.
+pub(super) const NO_MOTION: ([f32; 3], f32) = ([0.0; 3], -1.0);

@@ -94,7 +94,7 @@ struct Reference {
 impl Reference {
     fn frame(&mut self, sel: &Selector, frame: &FrameInput) -> Vec<(Selection, Diagnostics)> {
         let s = &sel.settings;
-        let c = frame_consts(
+        let mut c = frame_consts(
             &sel.display,
             s,
             Tables {
@@ -110,8 +110,9 @@ impl Reference {
             frame.scale,
         )
         .unwrap();
+        c.pursued = sel.pursued_slot(frame.gaze.pursued);
         let mut out = Vec::new();
-        for i in 0..sel.selections.len() {
+        for i in 0..sel.multi() {
             let (b, l) = (&sel.blocks[i / BLOCK], i % BLOCK);
             let center = DVec3::new(b.x[l], b.y[l], b.z[l]);
             let r = b.radius[l];
@@ -290,8 +291,8 @@ fn matches_reference(
         ids.push(sel.add_object(desc).unwrap());
     }
     let mut reference = Reference {
-        dir_eye: vec![Vec3::ZERO; sel.selections.len()],
-        velocity_deg_per_s: vec![-1.0; sel.selections.len()],
+        dir_eye: vec![Vec3::ZERO; sel.multi()],
+        velocity_deg_per_s: vec![-1.0; sel.multi()],
     };
     for (f, dt) in [1.0 / 90.0, 1.0 / 90.0, 0.0, -1.0, 0.5, 1.0 / 60.0]
         .into_iter()

@@ -1,0 +1,124 @@
+//! A fixed frame rate with the predictive scheduler: each frame, a cost
+//! model turns the frame-time target into a triangle budget, the selector
+//! picks the largest global scale factor `s` whose LODs fit it (dropping
+//! the least visible detail first), the frame is "drawn", and its measured
+//! time refines the cost model.
+//!
+//! The renderer here is simulated: a frame costs 1 ms plus 40 ns per
+//! triangle, and from frame 60 to 120 something else slows drawing to
+//! 80 ns per triangle (a heavier shader, a busier GPU): the frames right
+//! after each change miss or undershoot the 90 Hz target while the cost
+//! model learns, then the scheduler holds it again.
+//!
+//! `cargo run --example fixed_rate`
+
+use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
+use acuity::{
+    Camera, CostModel, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings,
+    Tracker,
+};
+use glam::{DVec3, Quat};
+
+/// The simulated renderer: the time a frame of `triangles` takes, s.
+fn draw(frame: u32, triangles: u64) -> f32 {
+    let per_triangle_s = if (60..120).contains(&frame) {
+        80e-9
+    } else {
+        40e-9
+    };
+    1e-3 + per_triangle_s * triangles as f32
+}
+
+fn main() -> Result<(), acuity::Error> {
+    let target_frame_s = 1.0 / 90.0;
+    let display = Display::new([1920, 1080], [90.0, 58.7])?;
+    let mut selector = Selector::new(display, SelectorSettings::default());
+    let profile = selector.add_profile(&demo_profile())?;
+    // 2000 objects scattered in front of the viewer, 5 to 80 units away.
+    let mut state = 1u64;
+    let mut random = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..2000 {
+        let distance = 5.0 + 75.0 * random();
+        let center = DVec3::new(
+            (random() - 0.5) * 1.6 * distance,
+            (random() - 0.5) * 0.9 * distance,
+            -distance,
+        );
+        selector.add_object(ObjectDesc {
+            center,
+            radius: 0.6,
+            rotation: Quat::IDENTITY,
+            profile,
+        })?;
+    }
+    // A first guess at the costs; the measured frames correct it. The
+    // budget aims 5% under the target, headroom for the model's lag.
+    let mut cost = CostModel::new(1e-3, 20e-9);
+    let aim_s = 0.95 * target_frame_s;
+    let mut over = 0;
+    println!("frame   budget  triangles      s  frame ms");
+    for frame in 0..180u32 {
+        let budget = cost.triangle_budget(aim_s);
+        let outcome = selector.select_within_budget(
+            &FrameInput {
+                camera: Camera {
+                    position: DVec3::new(0.0, 0.0, -0.02 * frame as f64),
+                    orientation: Quat::IDENTITY,
+                },
+                gaze: Gaze::screen_centre(Tracker::None),
+                dt_s: target_frame_s,
+                scale: 1.0,
+            },
+            budget,
+        )?;
+        let frame_s = draw(frame, outcome.triangles);
+        cost.observe(frame_s, outcome.triangles);
+        over += (frame_s > target_frame_s) as u32;
+        if frame % 10 == 0 || (60..64).contains(&frame) {
+            println!(
+                "{frame:5} {budget:8} {:10} {:6.3} {:9.2}",
+                outcome.triangles,
+                outcome.scale,
+                frame_s * 1e3
+            );
+        }
+    }
+    println!(
+        "{over} of 180 frames over the {:.2} ms target",
+        target_frame_s * 1e3
+    );
+    Ok(())
+}
+
+/// A stand-in for a profile from `acuity preprocess`: 4 LODs of 4000 to
+/// 60 triangles, each transition removing one feature of half the
+/// frequency of the one before.
+fn demo_profile() -> Profile {
+    let transitions = (0..3)
+        .map(|t| TransitionFeatures {
+            feature_count: 1,
+            features: vec![Feature {
+                freq_cdiam: 200.0 / (1 << t) as f32,
+                area_diam2: 0.01,
+                luminance: [0.2, 0.5],
+                masker: [0.2, 0.5],
+            }],
+        })
+        .collect();
+    Profile {
+        format_version: PROFILE_FORMAT_VERSION,
+        name: "rock".into(),
+        lod_triangles: vec![4000, 1000, 250, 60],
+        bounding_radius: 1.0,
+        viewpoints: vec![[0.0, 0.0, 1.0]],
+        rung_diameters_px: vec![256.0],
+        transitions,
+        settings: Default::default(),
+        inputs: vec![],
+    }
+}

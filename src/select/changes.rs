@@ -1,0 +1,170 @@
+//! What changed this frame: the objects whose selection differs from the
+//! previous call's, and the cross-fades those switches start, advance or
+//! end. Each `select*` call swaps the selections with last frame's (free)
+//! and writes them anew; with change tracking on, the two are then
+//! compared 64 selections at once, object by object only in groups that
+//! changed, and the ids of the changed ones are read in a pass of their
+//! own, whose cache misses overlap.
+
+use super::objects::NONE;
+use super::{Fade, FrameInput, ObjectId, Selector};
+
+/// Selections compared at once.
+const GROUP: usize = 64;
+
+impl Selector {
+    /// The objects whose selection (LOD or culled) changed in the last
+    /// `select*` call, in no particular order, with
+    /// [`SelectorSettings::track_changes`](super::SelectorSettings) on (or
+    /// cross-fades); empty otherwise. Objects added, or given another
+    /// profile, since the call before count as culled before: they are
+    /// listed unless culled now. An object whose selection did not change
+    /// is not in it; one removed since the call still is (check with
+    /// [`contains`](Self::contains)). Its storage is reused from frame to
+    /// frame.
+    pub fn changed(&self) -> &[ObjectId] {
+        &self.changed
+    }
+
+    /// The running cross-fades, in no particular order (empty unless
+    /// [`SelectorSettings::fade_time_s`](super::SelectorSettings) is set).
+    pub fn fades(&self) -> &[Fade] {
+        &self.fades
+    }
+
+    /// An object's running cross-fade, if any. Panics if `id` was removed
+    /// or is from another selector.
+    pub fn fade(&self, id: ObjectId) -> Option<Fade> {
+        if let Err(e) = self.slot(id) {
+            panic!("Selector::fade: {e}");
+        }
+        match self.handles[id.index as usize].fade {
+            NONE => None,
+            i => Some(self.fades[i as usize]),
+        }
+    }
+
+    /// Lists the objects whose selection differs from last frame's.
+    fn list_changes(&mut self) {
+        self.changed.clear();
+        self.switched_from.clear();
+        self.changed_slots.clear();
+        for (g, (now, before)) in self
+            .selections
+            .chunks(GROUP)
+            .zip(self.previous.chunks(GROUP))
+            .enumerate()
+        {
+            let differ = now
+                .iter()
+                .zip(before)
+                .fold(0u8, |acc, (a, b)| acc | (a.0 ^ b.0));
+            if differ == 0 {
+                continue;
+            }
+            for (i, (a, b)) in now.iter().zip(before).enumerate() {
+                if a != b {
+                    self.changed_slots.push((g * GROUP + i) as u32);
+                    self.switched_from.push(*b);
+                }
+            }
+        }
+        let ids = &self.slot_ids;
+        self.changed
+            .extend(self.changed_slots.iter().map(|&s| ids[s as usize]));
+    }
+
+    /// After a frame's selections are final: lists the changes and moves
+    /// the fades on by the frame's `dt_s`, as the settings ask.
+    pub(super) fn finish_frame(&mut self, frame: &FrameInput) {
+        let fade_s = self.settings.fade_time_s;
+        let fading = fade_s.is_finite() && fade_s > 0.0;
+        if self.settings.track_changes || fading {
+            self.list_changes();
+        }
+        if fading {
+            self.advance_fades(frame.dt_s, fade_s);
+        }
+    }
+
+    fn advance_fades(&mut self, dt_s: f32, fade_s: f32) {
+        let step = if dt_s.is_finite() && dt_s > 0.0 {
+            dt_s / fade_s
+        } else {
+            0.0
+        };
+        let mut i = 0;
+        while i < self.fades.len() {
+            self.fades[i].fraction += step;
+            if self.fades[i].fraction >= 1.0 {
+                self.remove_fade(i);
+            } else {
+                i += 1;
+            }
+        }
+        for k in 0..self.changed.len() {
+            let (id, before) = (self.changed[k], self.switched_from[k]);
+            let now = self.selections[self.handles[id.index as usize].slot as usize];
+            let running = self.handles[id.index as usize].fade;
+            let (Some(from), Some(to)) = (before.lod(), now.lod()) else {
+                // Into or out of view: no fade.
+                if running != NONE {
+                    self.remove_fade(running as usize);
+                }
+                continue;
+            };
+            let fade = match running {
+                NONE => Fade {
+                    object: id,
+                    from_lod: from,
+                    to_lod: to,
+                    fraction: 0.0,
+                },
+                at => {
+                    let f = self.fades[at as usize];
+                    if to == f.from_lod {
+                        // Back to the LOD fading out: the fade reverses.
+                        Fade {
+                            from_lod: f.to_lod,
+                            to_lod: to,
+                            fraction: 1.0 - f.fraction,
+                            ..f
+                        }
+                    } else {
+                        let stronger = if f.fraction >= 0.5 {
+                            f.to_lod
+                        } else {
+                            f.from_lod
+                        };
+                        Fade {
+                            from_lod: stronger,
+                            to_lod: to,
+                            fraction: 0.0,
+                            ..f
+                        }
+                    }
+                }
+            };
+            if fade.fraction >= 1.0 {
+                // Reversed at its very start: back where it began.
+                if running != NONE {
+                    self.remove_fade(running as usize);
+                }
+            } else if running == NONE {
+                self.fades.push(fade);
+                self.handles[id.index as usize].fade = self.fades.len() as u32 - 1;
+            } else {
+                self.fades[running as usize] = fade;
+            }
+        }
+    }
+
+    /// Ends fade `at`.
+    pub(super) fn remove_fade(&mut self, at: usize) {
+        let gone = self.fades.swap_remove(at);
+        self.handles[gone.object.index as usize].fade = NONE;
+        if let Some(moved) = self.fades.get(at) {
+            self.handles[moved.object.index as usize].fade = at as u32;
+        }
+    }
+}
