@@ -1,13 +1,14 @@
-//! `acuity preprocess`: the offline pass on a scene file or one OBJ mesh,
-//! writing one runtime profile per object.
+//! `acuity preprocess`: the offline pass on a scene file or one mesh file
+//! (OBJ or glTF), writing one runtime profile per object.
 //!
 //! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
 //!   objects are analysed from their files, `mesh` + `generate_triangles`
 //!   objects from LODs simplified from the mesh, and `procedural` objects
 //!   from the offline pass's generators (see [`crate::profiles::object_source`]). Or one
-//!   OBJ file (`.obj`): its LODs are generated at
-//!   `--triangles` (default the paper's 3928/834/254/76), and the object is
-//!   named after the file stem.
+//!   mesh file (`.obj`, `.gltf`, `.glb`): a glTF that carries an LOD chain
+//!   (`MSFT_lod`, or nodes named `*_LOD<n>`) is analysed as it is; otherwise
+//!   its LODs are generated at `--triangles` (default the paper's
+//!   3928/834/254/76). The object is named after the file stem.
 //! - **Cache.** Profiles go to `--out` (default `<dir of PATH>/.acuity-cache/`)
 //!   as `<object>.acp` ([`profiles::cache_path`]). An object whose input
 //!   files, generation parameters and settings hash as recorded in its
@@ -23,7 +24,7 @@
 //!   0 when every object has a profile, 1 when any object failed or no
 //!   renderer could be made,
 //!   2 for bad arguments (including a PATH that is not a readable scene or
-//!   OBJ file, or a scene file that does not parse).
+//!   mesh file, or a scene file that does not parse).
 //! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
 //!   median over viewpoints of each transition's critical frequency at the
 //!   largest rung ([`median_critical_cdiam`]; c/diam, `none` where nothing
@@ -50,11 +51,13 @@ use acuity::{Observer, Photometry, Profile, csf::Csf};
 /// Arguments of `acuity preprocess`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct PreprocessArgs {
-    /// A scene file (.toml: every object in it) or one OBJ mesh (.obj: its
-    /// LODs are generated with --triangles).
+    /// A scene file (.toml: every object in it) or one mesh (.obj, .gltf,
+    /// .glb: its LODs are generated with --triangles, or a glTF's own chain
+    /// is used).
     pub path: PathBuf,
-    /// LOD triangle targets for a single OBJ, finest first, strictly
-    /// decreasing [default: 3928,834,254,76].
+    /// LOD triangle targets for a single mesh file, finest first, strictly
+    /// decreasing [default: 3928,834,254,76; a glTF with its own chain:
+    /// that chain].
     #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
     pub triangles: Option<Vec<u32>>,
     /// Worker threads for the analysis (rayon pool size) [default: one per
@@ -144,7 +147,7 @@ pub struct Job {
 }
 
 /// The objects named by `args.path`, the default profile folder, and a
-/// scene's `[profiles]` (none for an OBJ).
+/// scene's `[profiles]` (none for a mesh file).
 fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), PreprocessError> {
     let path = &args.path;
     let ext = path
@@ -156,7 +159,8 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
         Some("toml") => {
             if args.triangles.is_some() {
                 return Err(PreprocessError::Usage(
-                    "--triangles applies to a single .obj; a scene gives each object's LODs".into(),
+                    "--triangles applies to a single mesh file; a scene gives each object's LODs"
+                        .into(),
                 ));
             }
             let text = std::fs::read_to_string(path).map_err(|e| {
@@ -176,12 +180,28 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .collect();
             Ok((jobs, default_out, scene.profiles))
         }
-        Some("obj") => {
+        Some(ext @ ("obj" | "gltf" | "glb")) => {
             if !path.is_file() {
                 return Err(PreprocessError::Usage(format!(
                     "{}: no such file",
                     path.display()
                 )));
+            }
+            let name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "object".into());
+            // A glTF that carries its own LOD chain is analysed as it is,
+            // unless --triangles asks for generated LODs.
+            if ext != "obj" && args.triangles.is_none() && gltf_carries_chain(path) {
+                let job = Job {
+                    name: name.clone(),
+                    source: ObjectSource::Files {
+                        name,
+                        lod_paths: vec![path.clone()],
+                    },
+                };
+                return Ok((vec![job], default_out, ProfileSpec::default()));
             }
             let targets = args
                 .triangles
@@ -192,10 +212,6 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                     "--triangles {targets:?}: give at least 2 positive targets, strictly decreasing"
                 )));
             }
-            let name = path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "object".into());
             let job = Job {
                 name: name.clone(),
                 source: ObjectSource::Generated {
@@ -207,10 +223,16 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
             Ok((vec![job], default_out, ProfileSpec::default()))
         }
         _ => Err(PreprocessError::Usage(format!(
-            "{}: expected a scene file (.toml) or an OBJ mesh (.obj)",
+            "{}: expected a scene file (.toml) or a mesh (.obj, .gltf, .glb)",
             path.display()
         ))),
     }
+}
+
+/// Whether a glTF file carries an LOD chain of two or more levels. A file
+/// that does not load counts as not (its error comes when it is analysed).
+fn gltf_carries_chain(path: &Path) -> bool {
+    acuity_render::gltf_mesh::load_gltf(path).is_ok_and(|g| g.lods.len() >= 2)
 }
 
 /// What happened to one object.

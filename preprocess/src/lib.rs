@@ -18,8 +18,10 @@
 
 pub mod features;
 pub mod frequency;
+pub mod input_files;
 pub mod lods;
 pub mod pipeline;
+pub mod sample;
 pub mod segment;
 pub mod shapes;
 pub mod views;
