@@ -118,9 +118,10 @@ fn malformed_gltf_files_exit_with_1_or_2_never_a_panic() {
             j["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = json!(9)
         }),
         ("index_past_vertices", |j, bin| {
-            let view = j["accessors"][4]["bufferView"].as_u64().unwrap() as usize;
+            let acc = j["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+            let view = j["accessors"][acc]["bufferView"].as_u64().unwrap() as usize;
             let at = j["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
-            bin[at..at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+            bin[at..at + 2].copy_from_slice(&u16::MAX.to_le_bytes());
         }),
         ("view_past_buffer", |j, _| {
             j["bufferViews"][1]["byteOffset"] = json!(1 << 30)

@@ -18,8 +18,10 @@ pub const GLOBE_TEXTURE_PX: u32 = 256;
 /// `u` = longitude / 360°, `v` = colatitude / 180° (the seam's vertices are
 /// doubled), white vertex colours, smooth normals, and `texture`.
 pub fn uv_sphere(triangles: u32, texture: Option<Arc<Texture>>) -> Mesh {
-    // Triangles = 2 · nu · (nv - 1) with nu = 2 nv.
-    let nv = ((f64::from(triangles.max(8)) / 4.0).sqrt().ceil() as u32).max(2);
+    // Triangles = 2 · nu · (nv - 1) = 4 nv (nv - 1) with nu = 2 nv: the
+    // smallest nv with 4 nv (nv - 1) >= triangles.
+    let t = f64::from(triangles.max(8));
+    let nv = (((1.0 + (1.0 + t).sqrt()) / 2.0).ceil() as u32).max(2);
     let nu = 2 * nv;
     let mut m = Mesh {
         positions: Vec::new(),

@@ -3,7 +3,8 @@
 //! that follow the same naming) read the chain back.
 //!
 //! Each LOD keeps its positions, normals, vertex colours (`COLOR_0`,
-//! linear), texture coordinates and base-colour texture (PNG, embedded in
+//! linear; left out when all white), texture coordinates, indices (16-bit
+//! where they suffice) and base-colour texture (PNG, embedded in
 //! the binary chunk; LODs that share a texture share the image). Material
 //! factors are 1: the colour is all in `COLOR_0` and the texture, as the
 //! loader multiplies them.
@@ -86,15 +87,27 @@ fn write_named(names: &[String], lods: &[Mesh]) -> Result<Vec<u8>, Error> {
         };
         let pos = attribute(&mut bin, mesh.positions.concat(), 3, true);
         let nrm = attribute(&mut bin, mesh.normals.concat(), 3, false);
-        let col = attribute(&mut bin, mesh.colors.concat(), 3, false);
-        let mut attrs = json!({ "POSITION": pos, "NORMAL": nrm, "COLOR_0": col });
+        let mut attrs = json!({ "POSITION": pos, "NORMAL": nrm });
+        // All-white vertex colours are glTF's default: left out.
+        if mesh.colors.iter().any(|c| *c != [1.0; 3]) {
+            attrs["COLOR_0"] = json!(attribute(&mut bin, mesh.colors.concat(), 3, false));
+        }
         if !mesh.uvs.is_empty() {
             attrs["TEXCOORD_0"] = json!(attribute(&mut bin, mesh.uvs.concat(), 2, false));
         }
-        let ibytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        // 16-bit indices where they suffice, else 32-bit.
+        let short = mesh.positions.len() <= usize::from(u16::MAX);
+        let ibytes: Vec<u8> = if short {
+            mesh.indices
+                .iter()
+                .flat_map(|&i| (i as u16).to_le_bytes())
+                .collect()
+        } else {
+            mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
+        };
         let iview = push_view(&mut bin, &ibytes, Some(ELEMENT_ARRAY_BUFFER));
         accessors.push(json!({
-            "bufferView": iview, "componentType": 5125,
+            "bufferView": iview, "componentType": if short { 5123 } else { 5125 },
             "count": mesh.indices.len(), "type": "SCALAR"
         }));
         let indices = accessors.len() - 1;

@@ -207,9 +207,10 @@ fn broken_files_name_what_is_wrong() {
         (
             "index past the vertices",
             Box::new(|j, bin| {
-                let view = j["accessors"][4]["bufferView"].as_u64().unwrap() as usize;
+                let acc = j["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+                let view = j["accessors"][acc]["bufferView"].as_u64().unwrap() as usize;
                 let at = j["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
-                bin[at..at + 4].copy_from_slice(&1000u32.to_le_bytes());
+                bin[at..at + 2].copy_from_slice(&1000u16.to_le_bytes());
             }),
             &["accessor 4", "indices", "1000"],
         ),
