@@ -25,6 +25,9 @@
 //!   renderer could be made,
 //!   2 for bad arguments (including a PATH that is not a readable scene or
 //!   mesh file, or a scene file that does not parse).
+//! - **Export.** `--export-lods` writes each object's analysed LOD chain
+//!   beside its profile ([`profiles::export_lods`]) and records the files'
+//!   hashes in it, so what ships is exactly what was measured.
 //! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
 //!   median over viewpoints of each transition's critical frequency at the
 //!   largest rung ([`median_critical_cdiam`]; c/diam, `none` where nothing
@@ -104,6 +107,12 @@ pub struct PreprocessArgs {
     /// Analyse every object even when its cached profile is up to date.
     #[arg(long)]
     pub force: bool,
+    /// Also write each object's analysed LOD chain beside its profile:
+    /// NAME.lods.glb (every LOD) and NAME_lod<k>.obj (+ NAME.mtl, and
+    /// NAME_basecolor.png when textured); the profile records each file's
+    /// hash.
+    #[arg(long)]
+    pub export_lods: bool,
 }
 
 /// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
@@ -412,6 +421,21 @@ fn process(
     bar.finish_and_clear();
 
     let mut rows: Vec<Row> = rows.into_iter().flatten().collect();
+    if args.export_lods {
+        for (row, j) in rows.iter_mut().zip(jobs) {
+            let (Outcome::Cached(p) | Outcome::Analysed(p)) = &mut row.outcome else {
+                continue;
+            };
+            match profiles::export_lods(&j.source, p, out_dir) {
+                Ok(files) => println!("{}: exported {} LOD files", j.name, files.len()),
+                Err(e) => {
+                    let line = crate::error_line(&e);
+                    eprintln!("error: object `{}`: {line}", j.name);
+                    row.outcome = Outcome::Failed(line);
+                }
+            }
+        }
+    }
     if args.json {
         for (row, j) in rows.iter_mut().zip(jobs) {
             let (Outcome::Cached(p) | Outcome::Analysed(p)) = &row.outcome else {

@@ -151,3 +151,76 @@ fn malformed_gltf_files_exit_with_1_or_2_never_a_panic() {
         assert!(!err.contains("panicked"), "{name}: {err}");
     }
 }
+
+#[test]
+fn exported_lods_read_back_with_the_profiles_counts_and_hashes() {
+    let dir = temp_dir("export");
+    let globe = dir.join("globe.glb");
+    std::fs::write(&globe, textured_globe_glb().unwrap()).unwrap();
+    let args = ["--triangles", "2024,500,120", "--export-lods"];
+    let o = preprocess(&globe, &args);
+    assert_eq!(o.status.code(), Some(0));
+    let cache = dir.join(".acuity-cache");
+    let profile = acuity::Profile::load(cache.join("globe.acp")).unwrap();
+    let want: Vec<usize> = profile.lod_triangles.iter().map(|&n| n as usize).collect();
+    assert_eq!(want.len(), 3);
+
+    // Every exported file is recorded with the hash of its bytes.
+    let recorded: Vec<(String, String)> = profile
+        .inputs
+        .iter()
+        .filter_map(|h| {
+            Some((
+                h.what.strip_prefix("exported:")?.to_owned(),
+                h.hash_hex.clone(),
+            ))
+        })
+        .collect();
+    let names: Vec<&str> = recorded.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "globe.lods.glb",
+            "globe_lod0.obj",
+            "globe_lod1.obj",
+            "globe_lod2.obj",
+            "globe.mtl",
+            "globe_basecolor.png"
+        ]
+    );
+    for (name, hash) in &recorded {
+        let bytes = std::fs::read(cache.join(name)).unwrap();
+        assert_eq!(&blake3_hex(&bytes), hash, "{name}");
+    }
+
+    // The .glb reads back as the chain, the OBJ files one LOD each, with
+    // the profile's triangle counts; the glb's texture is the asset's.
+    let chain =
+        acuity_preprocess::render::gltf_mesh::load_gltf(&cache.join("globe.lods.glb")).unwrap();
+    let got: Vec<usize> = chain.lods.iter().map(|m| m.triangle_count()).collect();
+    assert_eq!(got, want);
+    let original = acuity_preprocess::render::gltf_mesh::load_gltf(&globe).unwrap();
+    assert_eq!(
+        chain.lods[0].texture.as_ref().unwrap().rgba,
+        original.lods[0].texture.as_ref().unwrap().rgba
+    );
+    for (k, n) in want.iter().enumerate() {
+        let m =
+            acuity_preprocess::mesh::load_obj(&cache.join(format!("globe_lod{k}.obj"))).unwrap();
+        assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+        assert_eq!(m.mesh.triangle_count(), *n, "LOD {k}");
+        assert!(m.mesh.texture.is_some());
+    }
+
+    // A second run is cached (the records are not inputs) and exports the
+    // same bytes.
+    let o = preprocess(&globe, &args);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("globe: cached"));
+    let again = acuity::Profile::load(cache.join("globe.acp")).unwrap();
+    assert_eq!(again.inputs, profile.inputs);
+}
+
+fn blake3_hex(bytes: &[u8]) -> String {
+    acuity_preprocess::input_files::hash_hex(bytes)
+}

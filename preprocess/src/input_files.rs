@@ -8,6 +8,12 @@ use std::path::{Path, PathBuf};
 use crate::Error;
 use crate::pipeline::InputHash;
 
+/// BLAKE3 of `bytes`, 64 lowercase hex digits (the form of every hash
+/// in a profile).
+pub fn hash_hex(bytes: &[u8]) -> String {
+    blake3::hash(bytes).to_hex().to_string()
+}
+
 /// Hashes a mesh file and every file it draws on: a glTF's external
 /// buffers and images, an OBJ's MTL files and their `map_Kd` textures
 /// (`missing` for a named file that is absent).

@@ -16,6 +16,7 @@
 //! crate turns it into the runtime's profile format (crate `acuity`). This
 //! crate depends on neither (only on the renderer, `acuity-render`).
 
+pub mod export;
 pub mod features;
 pub mod frequency;
 pub mod input_files;

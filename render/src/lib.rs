@@ -61,6 +61,7 @@ pub mod gltf_mesh;
 pub mod gltf_write;
 pub mod mesh;
 mod mtl;
+pub mod obj_write;
 pub mod texture;
 
 use std::collections::HashMap;
