@@ -30,6 +30,7 @@ pub mod experiment;
 pub mod flip;
 pub mod frames;
 pub mod gaze;
+pub mod library;
 pub mod limits;
 pub mod parse;
 pub mod path;

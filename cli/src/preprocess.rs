@@ -54,9 +54,10 @@ use acuity::{Observer, Photometry, Profile, csf::Csf};
 /// Arguments of `acuity preprocess`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct PreprocessArgs {
-    /// A scene file (.toml: every object in it) or one mesh (.obj, .gltf,
+    /// A scene file (.toml: every object in it), one mesh (.obj, .gltf,
     /// .glb: its LODs are generated with --triangles, or a glTF's own chain
-    /// is used).
+    /// is used), a folder of meshes or a manifest (.txt) listing them, one
+    /// object each (an asset library).
     pub path: PathBuf,
     /// LOD triangle targets for a single mesh file, finest first, strictly
     /// decreasing [default: 3928,834,254,76; a glTF with its own chain:
@@ -113,6 +114,19 @@ pub struct PreprocessArgs {
     /// hash.
     #[arg(long)]
     pub export_lods: bool,
+    /// Process only shard K of N (1 <= K <= N): a deterministic subset of
+    /// the objects by the hash of their names, for batch systems that run
+    /// the shards of a library (see `crate::library`).
+    #[arg(long, value_name = "K/N", value_parser = crate::library::parse_shard)]
+    pub shard: Option<crate::library::Shard>,
+    /// Render nothing: check that every object (of the shard, if given) has
+    /// an up-to-date profile in the profile folder; exit 1 naming those
+    /// that have none or a stale one (the merge step of sharded runs).
+    #[arg(long)]
+    pub check: bool,
+    /// Also write the summary table as CSV to this file.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
 }
 
 /// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
@@ -164,6 +178,14 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let default_out = path.parent().unwrap_or(Path::new("")).join(".acuity-cache");
+    if path.is_dir() {
+        let assets = crate::library::folder_assets(path).map_err(PreprocessError::Usage)?;
+        let jobs = assets
+            .into_iter()
+            .map(|(name, p)| mesh_job(name, &p, args.triangles.as_deref()))
+            .collect::<Result<_, _>>()?;
+        return Ok((jobs, path.join(".acuity-cache"), ProfileSpec::default()));
+    }
     match ext.as_deref() {
         Some("toml") => {
             if args.triangles.is_some() {
@@ -189,7 +211,7 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .collect();
             Ok((jobs, default_out, scene.profiles))
         }
-        Some(ext @ ("obj" | "gltf" | "glb")) => {
+        Some("obj" | "gltf" | "glb") => {
             if !path.is_file() {
                 return Err(PreprocessError::Usage(format!(
                     "{}: no such file",
@@ -200,42 +222,51 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "object".into());
-            // A glTF that carries its own LOD chain is analysed as it is,
-            // unless --triangles asks for generated LODs.
-            if ext != "obj" && args.triangles.is_none() && gltf_carries_chain(path) {
-                let job = Job {
-                    name: name.clone(),
-                    source: ObjectSource::Files {
-                        name,
-                        lod_paths: vec![path.clone()],
-                    },
-                };
-                return Ok((vec![job], default_out, ProfileSpec::default()));
-            }
-            let targets = args
-                .triangles
-                .clone()
-                .unwrap_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec());
-            if targets.len() < 2 || targets.windows(2).any(|w| w[1] >= w[0]) || targets[0] == 0 {
-                return Err(PreprocessError::Usage(format!(
-                    "--triangles {targets:?}: give at least 2 positive targets, strictly decreasing"
-                )));
-            }
-            let job = Job {
-                name: name.clone(),
-                source: ObjectSource::Generated {
-                    name,
-                    path: path.clone(),
-                    triangle_targets: targets,
-                },
-            };
+            let job = mesh_job(name, path, args.triangles.as_deref())?;
             Ok((vec![job], default_out, ProfileSpec::default()))
         }
+        Some("txt") => {
+            let assets = crate::library::manifest_assets(path).map_err(PreprocessError::Usage)?;
+            let jobs = assets
+                .into_iter()
+                .map(|(name, p)| mesh_job(name, &p, args.triangles.as_deref()))
+                .collect::<Result<_, _>>()?;
+            Ok((jobs, default_out, ProfileSpec::default()))
+        }
         _ => Err(PreprocessError::Usage(format!(
-            "{}: expected a scene file (.toml) or a mesh (.obj, .gltf, .glb)",
+            "{}: expected a scene file (.toml), a mesh (.obj, .gltf, .glb), a folder of meshes or a manifest (.txt)",
             path.display()
         ))),
     }
+}
+
+/// The job of one mesh file: a glTF that carries an LOD chain is analysed
+/// as it is unless `triangles` asks for generated LODs; otherwise LODs are
+/// generated at `triangles` (default the paper's targets).
+fn mesh_job(name: String, path: &Path, triangles: Option<&[u32]>) -> Result<Job, PreprocessError> {
+    if triangles.is_none() && acuity_render::is_gltf(path) && gltf_carries_chain(path) {
+        return Ok(Job {
+            name: name.clone(),
+            source: ObjectSource::Files {
+                name,
+                lod_paths: vec![path.to_owned()],
+            },
+        });
+    }
+    let targets = triangles.map_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec(), <[u32]>::to_vec);
+    if targets.len() < 2 || targets.windows(2).any(|w| w[1] >= w[0]) || targets[0] == 0 {
+        return Err(PreprocessError::Usage(format!(
+            "--triangles {targets:?}: give at least 2 positive targets, strictly decreasing"
+        )));
+    }
+    Ok(Job {
+        name: name.clone(),
+        source: ObjectSource::Generated {
+            name,
+            path: path.to_owned(),
+            triangle_targets: targets,
+        },
+    })
 }
 
 /// Whether a glTF file carries an LOD chain of two or more levels. A file
@@ -263,7 +294,16 @@ struct Row {
 /// Runs `acuity preprocess`; see the module docs. Per-object results and
 /// the table go to stdout, errors and the progress bar to stderr.
 pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
-    let (jobs, default_out, scene_spec) = jobs_for(args)?;
+    let (mut jobs, default_out, scene_spec) = jobs_for(args)?;
+    if let Some(shard) = args.shard {
+        jobs.retain(|j| shard.contains(&j.name));
+        println!(
+            "shard {}/{}: {} object(s) of this run",
+            shard.k,
+            shard.n,
+            jobs.len()
+        );
+    }
     let flags = ProfileSpec {
         resolution_px: args.resolution,
         min_diameter_px: args.min_diameter,
@@ -281,6 +321,9 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         .map_err(PreprocessError::Usage)?;
     crate::limits::check_generated_meshes(jobs.iter().map(|j| &j.source))
         .map_err(PreprocessError::Usage)?;
+    if args.check {
+        return crate::library::check_profiles(&jobs, &settings, &out_dir, args.shard.is_none());
+    }
     let rows = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -289,6 +332,10 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         None => process(args, &settings, &jobs, &out_dir),
     };
     print!("{}", table(&rows));
+    if let Some(csv) = &args.csv {
+        std::fs::write(csv, summary_csv(&rows))
+            .map_err(|e| anyhow::anyhow!("{}: cannot write CSV: {e}", csv.display()))?;
+    }
     let failed = rows
         .iter()
         .filter(|r| matches!(r.outcome, Outcome::Failed(_)))
@@ -506,6 +553,47 @@ pub fn median_critical_cdiam(profile: &Profile) -> Vec<f32> {
             }
         })
         .collect()
+}
+
+/// The summary as CSV: one line per object (critical frequencies joined
+/// by `/`, `inf` where nothing visible changes).
+fn summary_csv(rows: &[Row]) -> String {
+    let mut out =
+        String::from("object,result,lod_triangles,viewpoints,critical_cdiam,seconds,error\n");
+    for r in rows {
+        let (p, result, error) = match &r.outcome {
+            Outcome::Cached(p) => (Some(p), "cached", ""),
+            Outcome::Analysed(p) => (Some(p), "analysed", ""),
+            Outcome::Failed(e) => (None, "failed", e.as_str()),
+        };
+        let join = |v: Vec<String>| v.join("/");
+        let lods = p.map_or_else(String::new, |p| {
+            join(p.lod_triangles.iter().map(u32::to_string).collect())
+        });
+        let views = p.map_or_else(String::new, |p| p.viewpoints.len().to_string());
+        let freqs = p.map_or_else(String::new, |p| {
+            join(
+                median_critical_cdiam(p)
+                    .iter()
+                    .map(|f| {
+                        if f.is_finite() {
+                            format!("{f:.3}")
+                        } else {
+                            "inf".into()
+                        }
+                    })
+                    .collect(),
+            )
+        });
+        let quote = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
+        out.push_str(&format!(
+            "{},{result},{lods},{views},{freqs},{:.3},{}\n",
+            quote(&r.name),
+            r.seconds,
+            quote(error)
+        ));
+    }
+    out
 }
 
 fn table(rows: &[Row]) -> String {
