@@ -69,6 +69,36 @@ fn a_textured_glb_and_a_glb_chain_are_analysed() {
     let profile = acuity::Profile::load(dir.join(".acuity-cache/chain.acp")).unwrap();
     let got: Vec<usize> = profile.lod_triangles.iter().map(|&n| n as usize).collect();
     assert_eq!(got, counts);
+
+    // A scene names the file's chain with `lods = [file]`, and generates
+    // LODs from a glTF with `mesh`.
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        r#"[display]
+resolution = [320, 240]
+fov_deg = [40.0, 30.0]
+
+[[objects]]
+name = "carried"
+lods = ["chain.glb"]
+
+[[objects]]
+name = "generated"
+mesh = "globe.glb"
+generate_triangles = [2024, 300]
+
+[camera]
+duration_s = 1.0
+forward_speed_m_per_s = 1.0
+start = { position = [0.0, 0.0, 5.0], yaw_deg = 0.0, pitch_deg = 0.0 }
+"#,
+    )
+    .unwrap();
+    let o = preprocess(&scene, &[]);
+    assert_eq!(o.status.code(), Some(0));
+    let carried = acuity::Profile::load(dir.join(".acuity-cache/carried.acp")).unwrap();
+    assert_eq!(carried.lod_triangles, profile.lod_triangles);
 }
 
 /// The sample's JSON and binary chunks.

@@ -9,7 +9,7 @@ use crate::gltf_mesh::FileResolver;
 
 /// Largest element count of an accessor without a buffer view (all zeros),
 /// so a file cannot make the loader allocate without bound.
-const MAX_VIEWLESS_COUNT: usize = 1 << 24;
+const MAX_VIEWLESS_COUNT: usize = 1 << 22;
 /// Every buffer's bytes, checked against its declared length.
 pub(crate) fn read_buffers(
     doc: &gltf::Document,

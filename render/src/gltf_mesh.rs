@@ -553,10 +553,22 @@ fn read_primitive(
         None => None,
     };
     let buffers = &ctx.buffers;
+    let positions_count = prim.get(&Semantic::Positions).map(|a| a.count());
     let read = |sem: Semantic, dims: &[usize]| -> Result<Option<Vec<f32>>, Error> {
         let Some(a) = prim.get(&sem) else {
             return Ok(None);
         };
+        // Every attribute has one element per vertex.
+        if let Some(n) = positions_count
+            && a.count() != n
+        {
+            return Err(bad(format!(
+                "accessor {} ({}) has {} elements but POSITION has {n}",
+                a.index(),
+                semantic_name(&sem),
+                a.count()
+            )));
+        }
         let what = format!("accessor {} ({} of {at})", a.index(), semantic_name(&sem));
         let (d, v) = read_floats(&a, buffers).map_err(|m| bad_at(path, &what, &m))?;
         if !dims.contains(&d) {

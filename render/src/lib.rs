@@ -1,8 +1,12 @@
 //! `acuity-render`: one shared headless renderer (wgpu), used by the
 //! offline pass (crate `acuity-preprocess`) and by the real-time scenes
 //! (crate `acuity-cli`), and what it draws: [`mesh`] (indexed triangle
-//! meshes and the OBJ/MTL loader). [`Error`] is the one error type of the
-//! renderer, the loader and the offline pass (which re-exports it).
+//! meshes and the OBJ/MTL loader), [`gltf_mesh`] (the glTF 2.0 loader),
+//! [`files`] (either, by extension), [`texture`] (base-colour textures and
+//! their mips); and writers for what the offline pass ships: [`gltf_write`]
+//! (an LOD chain as one `.glb`) and [`obj_write`]. [`Error`] is the one
+//! error type of the renderer, the loaders and the offline pass (which
+//! re-exports it).
 //!
 //! A crate of its own because the scene player uses the renderer and the
 //! loader as much as the offline pass does: they need neither the offline

@@ -246,6 +246,15 @@ fn broken_files_name_what_is_wrong() {
             &["accessor 0", "run past the end of buffer view"],
         ),
         (
+            "attribute shorter than POSITION",
+            Box::new(|j, _| {
+                let uv = j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"].clone();
+                let uv = uv.as_u64().unwrap() as usize;
+                j["accessors"][uv]["count"] = json!(3);
+            }),
+            &["TEXCOORD_0", "has 3 elements but POSITION has 25"],
+        ),
+        (
             "missing binary chunk",
             Box::new(|_, bin| bin.clear()),
             &["buffer 0"],
