@@ -41,6 +41,7 @@ pub mod foveate;
 pub mod fractal;
 pub mod frames;
 pub mod gaze;
+pub mod library;
 pub mod limits;
 pub mod parse;
 pub mod path;

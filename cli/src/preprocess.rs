@@ -1,13 +1,14 @@
-//! `acuity preprocess`: the offline pass on a scene file or one OBJ mesh,
-//! writing one runtime profile per object.
+//! `acuity preprocess`: the offline pass on a scene file or one mesh file
+//! (OBJ or glTF), writing one runtime profile per object.
 //!
 //! - **Inputs.** A scene file (`.toml`): every object in it. `lods = [...]`
 //!   objects are analysed from their files, `mesh` + `generate_triangles`
 //!   objects from LODs simplified from the mesh, and `procedural` objects
 //!   from the offline pass's generators (see [`crate::profiles::object_source`]). Or one
-//!   OBJ file (`.obj`): its LODs are generated at
-//!   `--triangles` (default the paper's 3928/834/254/76), and the object is
-//!   named after the file stem.
+//!   mesh file (`.obj`, `.gltf`, `.glb`): a glTF that carries an LOD chain
+//!   (`MSFT_lod`, or nodes named `*_LOD<n>`) is analysed as it is; otherwise
+//!   its LODs are generated at `--triangles` (default the paper's
+//!   3928/834/254/76). The object is named after the file stem.
 //! - **Cache.** Profiles go to `--out` (default `<dir of PATH>/.acuity-cache/`)
 //!   as `<object>.acp` ([`profiles::cache_path`]). An object whose input
 //!   files, generation parameters and settings hash as recorded in its
@@ -23,7 +24,10 @@
 //!   0 when every object has a profile, 1 when any object failed or no
 //!   renderer could be made,
 //!   2 for bad arguments (including a PATH that is not a readable scene or
-//!   OBJ file, or a scene file that does not parse).
+//!   mesh file, or a scene file that does not parse).
+//! - **Export.** `--export-lods` writes each object's analysed LOD chain
+//!   beside its profile ([`profiles::export_lods`]) and records the files'
+//!   hashes in it, so what ships is exactly what was measured.
 //! - **Report.** A table on stdout: object, LOD triangles, viewpoints, the
 //!   median over viewpoints of each transition's critical frequency at the
 //!   largest rung ([`median_critical_cdiam`]; c/diam, `none` where nothing
@@ -50,11 +54,14 @@ use acuity::{Observer, Photometry, Profile, csf::Csf};
 /// Arguments of `acuity preprocess`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct PreprocessArgs {
-    /// A scene file (.toml: every object in it) or one OBJ mesh (.obj: its
-    /// LODs are generated with --triangles).
+    /// A scene file (.toml: every object in it), one mesh (.obj, .gltf,
+    /// .glb: its LODs are generated with --triangles, or a glTF's own chain
+    /// is used), a folder of meshes or a manifest (.txt) listing them, one
+    /// object each (an asset library).
     pub path: PathBuf,
-    /// LOD triangle targets for a single OBJ, finest first, strictly
-    /// decreasing [default: 3928,834,254,76].
+    /// LOD triangle targets for a single mesh file, finest first, strictly
+    /// decreasing [default: 3928,834,254,76; a glTF with its own chain:
+    /// that chain].
     #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
     pub triangles: Option<Vec<u32>>,
     /// Worker threads for the analysis (rayon pool size) [default: one per
@@ -101,6 +108,25 @@ pub struct PreprocessArgs {
     /// Analyse every object even when its cached profile is up to date.
     #[arg(long)]
     pub force: bool,
+    /// Also write each object's analysed LOD chain beside its profile:
+    /// NAME.lods.glb (every LOD) and NAME_lod<k>.obj (+ NAME.mtl, and
+    /// NAME_basecolor.png when textured); the profile records each file's
+    /// hash.
+    #[arg(long)]
+    pub export_lods: bool,
+    /// Process only shard K of N (1 <= K <= N): a deterministic subset of
+    /// the objects by the hash of their names, for batch systems that run
+    /// the shards of a library (see `crate::library`).
+    #[arg(long, value_name = "K/N", value_parser = crate::library::parse_shard)]
+    pub shard: Option<crate::library::Shard>,
+    /// Render nothing: check that every object (of the shard, if given) has
+    /// an up-to-date profile in the profile folder; exit 1 naming those
+    /// that have none or a stale one (the merge step of sharded runs).
+    #[arg(long)]
+    pub check: bool,
+    /// Also write the summary table as CSV to this file.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
 }
 
 /// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
@@ -144,7 +170,7 @@ pub struct Job {
 }
 
 /// The objects named by `args.path`, the default profile folder, and a
-/// scene's `[profiles]` (none for an OBJ).
+/// scene's `[profiles]` (none for a mesh file).
 fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), PreprocessError> {
     let path = &args.path;
     let ext = path
@@ -152,11 +178,20 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let default_out = path.parent().unwrap_or(Path::new("")).join(".acuity-cache");
+    if path.is_dir() {
+        let assets = crate::library::folder_assets(path).map_err(PreprocessError::Usage)?;
+        let jobs = assets
+            .into_iter()
+            .map(|(name, p)| mesh_job(name, &p, args.triangles.as_deref()))
+            .collect::<Result<_, _>>()?;
+        return Ok((jobs, path.join(".acuity-cache"), ProfileSpec::default()));
+    }
     match ext.as_deref() {
         Some("toml") => {
             if args.triangles.is_some() {
                 return Err(PreprocessError::Usage(
-                    "--triangles applies to a single .obj; a scene gives each object's LODs".into(),
+                    "--triangles applies to a single mesh file; a scene gives each object's LODs"
+                        .into(),
                 ));
             }
             let text = std::fs::read_to_string(path).map_err(|e| {
@@ -176,39 +211,66 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
                 .collect();
             Ok((jobs, default_out, scene.profiles))
         }
-        Some("obj") => {
+        Some("obj" | "gltf" | "glb") => {
             if !path.is_file() {
                 return Err(PreprocessError::Usage(format!(
                     "{}: no such file",
                     path.display()
                 )));
             }
-            let targets = args
-                .triangles
-                .clone()
-                .unwrap_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec());
-            if let Err(e) = lods::check_targets(&targets) {
-                return Err(PreprocessError::Usage(format!("--triangles: {e}")));
-            }
             let name = path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "object".into());
-            let job = Job {
-                name: name.clone(),
-                source: ObjectSource::Generated {
-                    name,
-                    path: path.clone(),
-                    triangle_targets: targets,
-                },
-            };
+            let job = mesh_job(name, path, args.triangles.as_deref())?;
             Ok((vec![job], default_out, ProfileSpec::default()))
         }
+        Some("txt") => {
+            let assets = crate::library::manifest_assets(path).map_err(PreprocessError::Usage)?;
+            let jobs = assets
+                .into_iter()
+                .map(|(name, p)| mesh_job(name, &p, args.triangles.as_deref()))
+                .collect::<Result<_, _>>()?;
+            Ok((jobs, default_out, ProfileSpec::default()))
+        }
         _ => Err(PreprocessError::Usage(format!(
-            "{}: expected a scene file (.toml) or an OBJ mesh (.obj)",
+            "{}: expected a scene file (.toml), a mesh (.obj, .gltf, .glb), a folder of meshes or a manifest (.txt)",
             path.display()
         ))),
     }
+}
+
+/// The job of one mesh file: a glTF that carries an LOD chain is analysed
+/// as it is unless `triangles` asks for generated LODs; otherwise LODs are
+/// generated at `triangles` (default the paper's targets).
+fn mesh_job(name: String, path: &Path, triangles: Option<&[u32]>) -> Result<Job, PreprocessError> {
+    if triangles.is_none() && acuity_render::is_gltf(path) && gltf_carries_chain(path) {
+        return Ok(Job {
+            name: name.clone(),
+            source: ObjectSource::Files {
+                name,
+                lod_paths: vec![path.to_owned()],
+            },
+        });
+    }
+    let targets = triangles.map_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec(), <[u32]>::to_vec);
+    if let Err(e) = lods::check_targets(&targets) {
+        return Err(PreprocessError::Usage(format!("--triangles: {e}")));
+    }
+    Ok(Job {
+        name: name.clone(),
+        source: ObjectSource::Generated {
+            name,
+            path: path.to_owned(),
+            triangle_targets: targets,
+        },
+    })
+}
+
+/// Whether a glTF file carries an LOD chain of two or more levels. A file
+/// that does not load counts as not (its error comes when it is analysed).
+fn gltf_carries_chain(path: &Path) -> bool {
+    acuity_render::gltf_mesh::load_gltf(path).is_ok_and(|g| g.lods.len() >= 2)
 }
 
 /// What happened to one object.
@@ -230,7 +292,16 @@ struct Row {
 /// Runs `acuity preprocess`; see the module docs. Per-object results and
 /// the table go to stdout, errors and the progress bar to stderr.
 pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
-    let (jobs, default_out, scene_spec) = jobs_for(args)?;
+    let (mut jobs, default_out, scene_spec) = jobs_for(args)?;
+    if let Some(shard) = args.shard {
+        jobs.retain(|j| shard.contains(&j.name));
+        println!(
+            "shard {}/{}: {} object(s) of this run",
+            shard.k,
+            shard.n,
+            jobs.len()
+        );
+    }
     let flags = ProfileSpec {
         resolution_px: args.resolution,
         min_diameter_px: args.min_diameter,
@@ -248,6 +319,9 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         .map_err(PreprocessError::Usage)?;
     crate::limits::check_generated_meshes(jobs.iter().map(|j| &j.source))
         .map_err(PreprocessError::Usage)?;
+    if args.check {
+        return crate::library::check_profiles(&jobs, &settings, &out_dir, args.shard.is_none());
+    }
     let rows = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -256,6 +330,10 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         None => process(args, &settings, &jobs, &out_dir),
     };
     print!("{}", table(&rows));
+    if let Some(csv) = &args.csv {
+        std::fs::write(csv, summary_csv(&rows))
+            .map_err(|e| anyhow::anyhow!("{}: cannot write CSV: {e}", csv.display()))?;
+    }
     let failed = rows
         .iter()
         .filter(|r| matches!(r.outcome, Outcome::Failed(_)))
@@ -388,6 +466,21 @@ fn process(
     bar.finish_and_clear();
 
     let mut rows: Vec<Row> = rows.into_iter().flatten().collect();
+    if args.export_lods {
+        for (row, j) in rows.iter_mut().zip(jobs) {
+            let (Outcome::Cached(p) | Outcome::Analysed(p)) = &mut row.outcome else {
+                continue;
+            };
+            match profiles::export_lods(&j.source, p, out_dir) {
+                Ok(files) => println!("{}: exported {} LOD files", j.name, files.len()),
+                Err(e) => {
+                    let line = crate::error_line(&e);
+                    eprintln!("error: object `{}`: {line}", j.name);
+                    row.outcome = Outcome::Failed(line);
+                }
+            }
+        }
+    }
     if args.json {
         for (row, j) in rows.iter_mut().zip(jobs) {
             let (Outcome::Cached(p) | Outcome::Analysed(p)) = &row.outcome else {
@@ -458,6 +551,47 @@ pub fn median_critical_cdiam(profile: &Profile) -> Vec<f32> {
             }
         })
         .collect()
+}
+
+/// The summary as CSV: one line per object (critical frequencies joined
+/// by `/`, `inf` where nothing visible changes).
+fn summary_csv(rows: &[Row]) -> String {
+    let mut out =
+        String::from("object,result,lod_triangles,viewpoints,critical_cdiam,seconds,error\n");
+    for r in rows {
+        let (p, result, error) = match &r.outcome {
+            Outcome::Cached(p) => (Some(p), "cached", ""),
+            Outcome::Analysed(p) => (Some(p), "analysed", ""),
+            Outcome::Failed(e) => (None, "failed", e.as_str()),
+        };
+        let join = |v: Vec<String>| v.join("/");
+        let lods = p.map_or_else(String::new, |p| {
+            join(p.lod_triangles.iter().map(u32::to_string).collect())
+        });
+        let views = p.map_or_else(String::new, |p| p.viewpoints.len().to_string());
+        let freqs = p.map_or_else(String::new, |p| {
+            join(
+                median_critical_cdiam(p)
+                    .iter()
+                    .map(|f| {
+                        if f.is_finite() {
+                            format!("{f:.3}")
+                        } else {
+                            "inf".into()
+                        }
+                    })
+                    .collect(),
+            )
+        });
+        let quote = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
+        out.push_str(&format!(
+            "{},{result},{lods},{views},{freqs},{:.3},{}\n",
+            quote(&r.name),
+            r.seconds,
+            quote(error)
+        ));
+    }
+    out
 }
 
 fn table(rows: &[Row]) -> String {

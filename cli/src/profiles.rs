@@ -136,9 +136,13 @@ pub fn cached_profile(
             return Ok(None);
         }
     };
-    let same = cached.inputs.len() == hashes.len()
-        && cached
-            .inputs
+    let inputs: Vec<&InputHash> = cached
+        .inputs
+        .iter()
+        .filter(|h| !h.what.starts_with(EXPORTED_PREFIX))
+        .collect();
+    let same = inputs.len() == hashes.len()
+        && inputs
             .iter()
             .zip(&hashes)
             .all(|(a, b)| a.what == b.what && a.hash_hex == b.hash_hex);
@@ -208,6 +212,46 @@ pub fn ensure_profile(
     }
     let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
     Ok((profile, CacheOutcome::Analysed))
+}
+
+/// How a profile records a file `--export-lods` wrote: an entry of its
+/// `inputs` named `exported:<file name>` with the file's BLAKE3. The
+/// profile format has no field for outputs; these entries are not inputs
+/// and the cache check skips them.
+pub const EXPORTED_PREFIX: &str = "exported:";
+
+/// Writes the LOD chain of `object` (loaded or generated again, exactly as
+/// the analysis made it) beside its profile in `cache_dir`
+/// ([`acuity_preprocess::export::export_lods`]), replaces the profile's
+/// `exported:` records with the new files' hashes and saves the profile.
+/// Checks that the chain has the profile's triangle counts. Returns the
+/// files written.
+pub fn export_lods(
+    object: &ObjectSource,
+    profile: &mut Profile,
+    cache_dir: &Path,
+) -> anyhow::Result<Vec<acuity_preprocess::export::ExportedFile>> {
+    let (lods, _warnings) = object.load_lods()?;
+    let counts: Vec<u32> = lods.iter().map(|m| m.triangle_count() as u32).collect();
+    anyhow::ensure!(
+        counts == profile.lod_triangles,
+        "the LOD chain has {counts:?} triangles but its profile {:?}; analyse it again (--force)",
+        profile.lod_triangles
+    );
+    let stem = pipeline::file_safe_name(object.name());
+    let files = acuity_preprocess::export::export_lods(cache_dir, &stem, object.name(), &lods)?;
+    profile
+        .inputs
+        .retain(|h| !h.what.starts_with(EXPORTED_PREFIX));
+    profile.inputs.extend(files.iter().map(|f| InputHash {
+        what: format!(
+            "{EXPORTED_PREFIX}{}",
+            f.path.file_name().unwrap_or_default().to_string_lossy()
+        ),
+        hash_hex: f.hash_hex.clone(),
+    }));
+    profile.save(cache_path(cache_dir, object))?;
+    Ok(files)
 }
 
 /// Seed of the procedural generator for scene objects of kind `rock` (the

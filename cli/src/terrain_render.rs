@@ -69,6 +69,8 @@ impl TerrainRenderer {
                 colors: Vec::new(),
                 indices: Vec::new(),
                 normals_computed: false,
+                uvs: Vec::new(),
+                texture: None,
             },
             size,
             fov_deg: [h, v],

@@ -10,16 +10,22 @@
 //! triangle count), [`views`] (viewpoints and camera), [`segment`] (CIELUV
 //! and region growing), [`frequency`] (a feature's size as a frequency),
 //! [`features`] (the unique features of a transition and their contrast),
-//! [`pipeline`] (the whole analysis).
+//! [`pipeline`] (the whole analysis), [`input_files`] (the files an
+//! analysis reads, hashed for the cache), [`export`] (an analysed chain
+//! written as `.glb` and OBJ), [`sample`] (a textured test asset made by
+//! code).
 //!
 //! The crate returns plain data ([`ObjectAnalysis`]); the `acuity-cli`
 //! crate turns it into the runtime's profile format (crate `acuity`). This
 //! crate depends on neither (only on the renderer, `acuity-render`).
 
+pub mod export;
 pub mod features;
 pub mod frequency;
+pub mod input_files;
 pub mod lods;
 pub mod pipeline;
+pub mod sample;
 pub mod segment;
 pub mod shapes;
 pub mod views;

@@ -11,8 +11,10 @@
 //! # Generation
 //! [`generate_lods`] makes one LOD per triangle target, each simplified
 //! from the *source* mesh (not from the previous LOD, which would compound
-//! errors) with meshoptimizer's attribute-unaware edge-collapse simplifier
-//! at an unbounded error. A target at or above the source's triangle count
+//! errors) with meshoptimizer's edge-collapse simplifier at an unbounded
+//! error: attribute-unaware for untextured meshes, attribute-aware (texture
+//! coordinates, colours, normals) for textured ones, so texture seams, which
+//! are vertices split at one position, are kept where the cost allows. A target at or above the source's triangle count
 //! keeps the source as is, so the paper's 3928/834/254/76 on a
 //! 3928-triangle mesh gives the mesh itself as LOD 0. When the topology-
 //! preserving simplifier stops more than 10% above a target (closed
@@ -21,20 +23,53 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::{Error, Mesh, mesh};
+use crate::{Error, Mesh};
 
-/// Loads one OBJ file per LOD, finest first, and checks the chain.
-/// Returns the chain and the loaders' warnings.
+/// Loads an LOD chain from mesh files (OBJ or glTF), finest first, and
+/// checks it. One glTF file stands for the chain it carries
+/// ([`crate::render::gltf_mesh`]: `MSFT_lod` or `_LOD<n>` names); with
+/// several files each is one LOD (a glTF's finest level, with a warning
+/// when it carries more). Returns the chain and the loaders' warnings.
 pub fn load_lod_files(object: &str, paths: &[PathBuf]) -> Result<(Vec<Mesh>, Vec<String>), Error> {
+    if let [path] = paths {
+        let loaded = crate::render::load_mesh_file(path)?;
+        if loaded.lods.len() == 1 && crate::render::is_gltf(path) {
+            return Err(Error::LodChain {
+                object: object.into(),
+                lod: 1,
+                message: format!(
+                    "{} carries one LOD (no MSFT_lod, no node named `*_LOD1`); give more files or generate LODs from it",
+                    path.display()
+                ),
+            });
+        }
+        check_chain(object, &loaded.lods)?;
+        return Ok((loaded.lods, loaded.warnings));
+    }
     let mut lods = Vec::with_capacity(paths.len());
     let mut warnings = Vec::new();
     for p in paths {
-        let loaded = mesh::load_obj(p)?;
-        warnings.extend(loaded.warnings);
-        lods.push(loaded.mesh);
+        let (mesh, w) = load_finest(p)?;
+        warnings.extend(w);
+        lods.push(mesh);
     }
     check_chain(object, &lods)?;
     Ok((lods, warnings))
+}
+
+/// The finest mesh of a file (OBJ or glTF) and the loader's warnings, with
+/// one more when the file carries a chain of which only LOD 0 is used.
+pub fn load_finest(path: &Path) -> Result<(Mesh, Vec<String>), Error> {
+    let mut loaded = crate::render::load_mesh_file(path)?;
+    let n = loaded.lods.len();
+    if n > 1 {
+        loaded.warnings.push(format!(
+            "{}: carries {n} LODs; only its LOD 0 is used here",
+            path.display()
+        ));
+    }
+    let mesh = loaded.lods.swap_remove(0);
+    Ok((mesh, loaded.warnings))
 }
 
 /// Most LODs in a chain: what a profile holds ([`acuity::profile::MAX_LODS`]).
@@ -143,6 +178,12 @@ pub fn generate_lods(
     Ok(lods)
 }
 
+/// Weights of a textured mesh's vertex attributes in meshoptimizer's
+/// collapse cost (`u v`, `r g b`, normal `x y z`): texture coordinates
+/// count fully (a texel shift is what a texture LOD loses), colours and
+/// normals half, as meshoptimizer's documentation suggests for normals.
+const ATTRIBUTE_WEIGHTS: [f32; 8] = [1.0, 1.0, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5];
+
 /// Simplifies `mesh` to at most about `target_triangles` (see the module
 /// docs); returns a clone when the mesh is already small enough. Unused
 /// vertices are dropped (kept vertices stay in their original order).
@@ -160,14 +201,40 @@ pub fn simplify(mesh: &Mesh, target_triangles: usize) -> Mesh {
         return mesh.clone();
     };
     let target_indices = target_triangles * 3;
-    let mut idx = meshopt::simplify(
-        &mesh.indices,
-        &adapter,
-        target_indices,
-        f32::MAX,
-        meshopt::SimplifyOptions::None,
-        None,
-    );
+    let mut idx = if mesh.texture.is_none() {
+        meshopt::simplify(
+            &mesh.indices,
+            &adapter,
+            target_indices,
+            f32::MAX,
+            meshopt::SimplifyOptions::None,
+            None,
+        )
+    } else {
+        // Textured: texture coordinates, colours and normals weigh in the
+        // collapse cost, so seams and what the texture shows stay put.
+        let attrs: Vec<f32> = (0..mesh.positions.len())
+            .flat_map(|i| {
+                let [u, v] = mesh.uvs[i];
+                let [r, g, b] = mesh.colors[i];
+                let [x, y, z] = mesh.normals[i];
+                [u, v, r, g, b, x, y, z]
+            })
+            .collect();
+        let locks = vec![false; mesh.positions.len()];
+        meshopt::simplify_with_attributes_and_locks(
+            &mesh.indices,
+            &adapter,
+            &attrs,
+            &ATTRIBUTE_WEIGHTS,
+            ATTRIBUTE_WEIGHTS.len() * 4,
+            &locks,
+            target_indices,
+            f32::MAX,
+            meshopt::SimplifyOptions::None,
+            None,
+        )
+    };
     if idx.len() > target_indices + target_indices / 10 {
         let sloppy =
             meshopt::simplify_sloppy(&mesh.indices, &adapter, target_indices, f32::MAX, None);
@@ -184,6 +251,8 @@ pub fn simplify(mesh: &Mesh, target_triangles: usize) -> Mesh {
         positions: Vec::with_capacity(used.len()),
         normals: Vec::with_capacity(used.len()),
         colors: Vec::with_capacity(used.len()),
+        uvs: Vec::with_capacity(if mesh.uvs.is_empty() { 0 } else { used.len() }),
+        texture: mesh.texture.clone(),
         indices: Vec::with_capacity(idx.len()),
         normals_computed: mesh.normals_computed,
     };
@@ -192,6 +261,9 @@ pub fn simplify(mesh: &Mesh, target_triangles: usize) -> Mesh {
         out.positions.push(mesh.positions[old]);
         out.normals.push(mesh.normals[old]);
         out.colors.push(mesh.colors[old]);
+        if let Some(uv) = mesh.uvs.get(old) {
+            out.uvs.push(*uv);
+        }
     }
     out.indices = idx.iter().map(|&i| remap[i as usize]).collect();
     if mesh.normals_computed {
@@ -260,6 +332,8 @@ pub fn procedural_object(params: ProceduralParams) -> Mesh {
         normals: vec![[0.0, 0.0, 1.0]; positions.len()],
         positions,
         colors,
+        uvs: Vec::new(),
+        texture: None,
         indices,
         normals_computed: true,
     };

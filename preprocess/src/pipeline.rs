@@ -214,19 +214,20 @@ impl AnalysisSettings {
 /// Where an object's LODs come from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ObjectSource {
-    /// One OBJ file per LOD, finest first.
+    /// One mesh file (OBJ or glTF) per LOD, finest first, or one glTF file
+    /// carrying the chain (see [`lods::load_lod_files`]).
     Files {
         /// Object name (used in messages and reports).
         name: String,
-        /// OBJ files, finest first.
+        /// Mesh files, finest first.
         lod_paths: Vec<PathBuf>,
     },
-    /// One OBJ file simplified to each triangle target (see
-    /// [`lods::generate_lods`]).
+    /// One mesh file (OBJ, or a glTF's LOD 0) simplified to each triangle
+    /// target (see [`lods::generate_lods`]).
     Generated {
         /// Object name.
         name: String,
-        /// The source OBJ file.
+        /// The source mesh file.
         path: PathBuf,
         /// Triangle targets, finest first, strictly decreasing.
         triangle_targets: Vec<u32>,
@@ -273,10 +274,10 @@ impl ObjectSource {
                 path,
                 triangle_targets,
             } => {
-                let loaded = crate::mesh::load_obj(path)?;
+                let (mesh, warnings) = lods::load_finest(path)?;
                 Ok((
-                    lods::generate_lods(name, &loaded.mesh, triangle_targets)?,
-                    loaded.warnings,
+                    lods::generate_lods(name, &mesh, triangle_targets)?,
+                    warnings,
                 ))
             }
             Self::Procedural {
@@ -766,11 +767,13 @@ fn sanitize(name: &str) -> String {
 }
 
 /// Content hashes of every input of `object` under `settings`, computed
-/// without loading meshes or rendering: each OBJ file, each MTL file it
-/// names (`mtllib`, resolved next to the OBJ; `missing` when absent), the
-/// LOD-generation or procedural parameters, and the settings (with
-/// [`ANALYSIS_VERSION`]). Equal hashes mean the analysis would give the
-/// same result. Unreadable OBJ files are an [`Error::Io`].
+/// without loading meshes or rendering: each mesh file; for an OBJ each
+/// MTL file it names (`mtllib`, resolved next to the OBJ) and each texture
+/// those name (`map_Kd`), for a glTF each external buffer and image
+/// (`missing` for a named file that is absent); the LOD-generation or
+/// procedural parameters, and the settings (with [`ANALYSIS_VERSION`]).
+/// Equal hashes mean the analysis would give the same result. Unreadable
+/// mesh files are an [`Error::Io`].
 pub fn input_hashes(
     object: &ObjectSource,
     settings: &AnalysisSettings,
@@ -784,7 +787,7 @@ pub fn input_hashes(
     match object {
         ObjectSource::Files { lod_paths, .. } => {
             for p in lod_paths {
-                hash_obj_and_mtls(p, &mut out)?;
+                crate::input_files::hash_mesh_file(p, &mut out)?;
             }
         }
         ObjectSource::Generated {
@@ -792,7 +795,7 @@ pub fn input_hashes(
             triangle_targets,
             ..
         } => {
-            hash_obj_and_mtls(path, &mut out)?;
+            crate::input_files::hash_mesh_file(path, &mut out)?;
             out.push(generation(triangle_targets));
         }
         ObjectSource::Procedural {
@@ -836,35 +839,4 @@ fn list(values: &[u32]) -> String {
         .map(u32::to_string)
         .collect::<Vec<_>>()
         .join(",")
-}
-
-fn hash_obj_and_mtls(path: &Path, out: &mut Vec<InputHash>) -> Result<(), Error> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_owned(),
-        source,
-    })?;
-    out.push(InputHash {
-        what: path.display().to_string(),
-        hash_hex: blake3::hash(&bytes).to_hex().to_string(),
-    });
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let text = crate::mesh::decode_text(&bytes, path).unwrap_or_default();
-    for line in crate::mesh::split_lines(&text) {
-        let mut toks = line.split('#').next().unwrap_or("").split_whitespace();
-        if toks.next() != Some("mtllib") {
-            continue;
-        }
-        for name in toks {
-            let p = dir.join(name);
-            let hash_hex = match std::fs::read(&p) {
-                Ok(b) => blake3::hash(&b).to_hex().to_string(),
-                Err(_) => "missing".into(),
-            };
-            out.push(InputHash {
-                what: p.display().to_string(),
-                hash_hex,
-            });
-        }
-    }
-    Ok(())
 }

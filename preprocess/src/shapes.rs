@@ -109,6 +109,8 @@ impl Shape {
             colors: vec![COLOR; positions.len()],
             positions,
             normals,
+            uvs: Vec::new(),
+            texture: None,
             indices,
             normals_computed: true,
         }

@@ -23,6 +23,8 @@ fn left_half_quad() -> Mesh {
         ],
         normals: vec![[0.0, 0.0, 1.0]; 4],
         colors: vec![[1.0, 1.0, 1.0]; 4],
+        uvs: Vec::new(),
+        texture: None,
         indices: vec![0, 1, 2, 0, 2, 3],
         normals_computed: false,
     }

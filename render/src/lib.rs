@@ -1,8 +1,12 @@
 //! `acuity-render`: one shared headless renderer (wgpu), used by the
 //! offline pass (crate `acuity-preprocess`) and by the real-time scenes
 //! (crate `acuity-cli`), and what it draws: [`mesh`] (indexed triangle
-//! meshes and the OBJ/MTL loader). [`Error`] is the one error type of the
-//! renderer, the loader and the offline pass (which re-exports it).
+//! meshes and the OBJ/MTL loader), [`gltf_mesh`] (the glTF 2.0 loader),
+//! [`files`] (either, by extension), [`texture`] (base-colour textures and
+//! their mips); and writers for what the offline pass ships: [`gltf_write`]
+//! (an LOD chain as one `.glb`) and [`obj_write`]. [`Error`] is the one
+//! error type of the renderer, the loaders and the offline pass (which
+//! re-exports it).
 //!
 //! A crate of its own because the scene player uses the renderer and the
 //! loader as much as the offline pass does: they need neither the offline
@@ -18,8 +22,11 @@
 //!   a GPU this is Mesa's llvmpipe through EGL (GL backend). No adapter at
 //!   all is an error ([`Error::NoAdapter`]), never a silent pass.
 //! - **Shading** (same as the run-time renderer): one directional light plus
-//!   ambient, Lambert, `colour = vertex colour × (ambient + diffuse ×
-//!   max(0, n·l))`. Both sides of a triangle are lit (the normal is flipped on
+//!   ambient, Lambert, `colour = vertex colour × texture × (ambient +
+//!   diffuse × max(0, n·l))`. The base-colour texture ([`texture`]) is
+//!   sampled trilinearly from its mip chain (made on the CPU at upload) in
+//!   linear light; a mesh without one samples a white texel, which leaves
+//!   its colour exactly as it is. Both sides of a triangle are lit (the normal is flipped on
 //!   back faces), no culling, so inconsistent winding in files is harmless.
 //! - **Output** is `Rgba8UnormSrgb`: the shader works in linear RGB and the
 //!   target encodes to sRGB, so the bytes read back are sRGB8 — exactly what
@@ -44,14 +51,24 @@
 //!   goes on llvmpipe is measured in `docs/performance.md`.
 
 pub mod error;
+pub mod files;
+mod gltf_data;
+pub mod gltf_mesh;
+pub mod gltf_write;
 pub mod mesh;
+mod mtl;
+pub mod obj_write;
+pub mod texture;
 
-use std::sync::Mutex;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, Weak};
 
 use glam::{Mat3, Mat4, Vec3};
 
 pub use crate::error::Error;
+pub use crate::files::{LoadedChain, is_gltf, load_mesh_file};
 pub use crate::mesh::{LoadedMesh, Mesh};
+pub use crate::texture::Texture;
 
 /// MSAA samples of [`RendererOptions::default`] (and of the offline pass's
 /// default settings).
@@ -141,6 +158,9 @@ struct GpuMesh {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+    /// The mesh's texture and sampler (shared by meshes with the same
+    /// texture; the white texel for untextured meshes).
+    material: Arc<wgpu::BindGroup>,
 }
 
 struct Target {
@@ -157,6 +177,10 @@ struct Target {
 
 struct State {
     meshes: Vec<Option<GpuMesh>>,
+    /// Uploaded textures by the address of their [`Texture`], which each
+    /// entry keeps alive (so the address is not reused); an entry whose
+    /// bind group no mesh holds any more is dropped at the next upload.
+    textures: HashMap<usize, (Arc<Texture>, Weak<wgpu::BindGroup>)>,
     target: Option<Target>,
     instance_buf: Option<wgpu::Buffer>,
 }
@@ -168,62 +192,20 @@ pub struct Renderer {
     pipeline: wgpu::RenderPipeline,
     uniforms: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
+    material_layout: wgpu::BindGroupLayout,
+    white: Arc<wgpu::BindGroup>,
     samples: u32,
     adapter_info: String,
     max_dim: u32,
     state: Mutex<State>,
 }
 
-const VERTEX_STRIDE: u64 = 36; // position, normal, colour: 3 × f32x3
+const VERTEX_STRIDE: u64 = 44; // position, normal, colour: 3 × f32x3; uv: f32x2
 const INSTANCE_STRIDE: u64 = 112; // model mat4 + normal mat3 as 3 × vec4
 const UNIFORM_SIZE: u64 = 96; // view_proj mat4 + light dir vec4 + light params vec4
 
-const SHADER: &str = r#"
-struct Frame {
-    view_proj: mat4x4<f32>,
-    light_dir: vec4<f32>,
-    light: vec4<f32>,
-};
-@group(0) @binding(0) var<uniform> frame: Frame;
-
-struct VIn {
-    @location(0) pos: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) color: vec3<f32>,
-    @location(3) m0: vec4<f32>,
-    @location(4) m1: vec4<f32>,
-    @location(5) m2: vec4<f32>,
-    @location(6) m3: vec4<f32>,
-    @location(7) n0: vec4<f32>,
-    @location(8) n1: vec4<f32>,
-    @location(9) n2: vec4<f32>,
-};
-struct VOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) normal: vec3<f32>,
-    @location(1) color: vec3<f32>,
-};
-
-@vertex
-fn vs_main(v: VIn) -> VOut {
-    let model = mat4x4<f32>(v.m0, v.m1, v.m2, v.m3);
-    let nmat = mat3x3<f32>(v.n0.xyz, v.n1.xyz, v.n2.xyz);
-    var o: VOut;
-    o.clip = frame.view_proj * (model * vec4<f32>(v.pos, 1.0));
-    o.normal = nmat * v.normal;
-    o.color = v.color;
-    return o;
-}
-
-@fragment
-fn fs_main(i: VOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    var n = normalize(i.normal);
-    if (!front) { n = -n; }
-    let lambert = max(dot(n, frame.light_dir.xyz), 0.0);
-    let c = i.color * (frame.light.y + frame.light.x * lambert);
-    return vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
-}
-"#;
+/// The shading of both renderers (see the module docs).
+const SHADER: &str = include_str!("shader.wgsl");
 
 impl Renderer {
     /// Creates the device (once) and the pipeline. Fails with
@@ -301,12 +283,35 @@ impl Renderer {
                 resource: uniforms.as_entire_binding(),
             }],
         });
+        let material_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("base colour texture"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,
-            bind_group_layouts: &[Some(&bgl)],
+            bind_group_layouts: &[Some(&bgl), Some(&material_layout)],
             immediate_size: 0,
         });
-        let vattrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3];
+        let vattrs = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 10 => Float32x2
+        ];
         let iattrs = wgpu::vertex_attr_array![
             3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
             7 => Float32x4, 8 => Float32x4, 9 => Float32x4
@@ -361,17 +366,29 @@ impl Renderer {
             multiview_mask: None,
             cache: None,
         });
+        let white_texture = Texture::from_rgba(1, 1, vec![255; 4], "white")
+            .map_err(|message| Error::Gpu { message })?;
+        let white = Arc::new(texture::bind_group(
+            &device,
+            &queue,
+            &material_layout,
+            &white_texture,
+            max_dim,
+        ));
         Ok(Self {
             device,
             queue,
             pipeline,
             uniforms,
             bind_group,
+            material_layout,
+            white,
             samples,
             adapter_info,
             max_dim,
             state: Mutex::new(State {
                 meshes: Vec::new(),
+                textures: HashMap::new(),
                 target: None,
                 instance_buf: None,
             }),
@@ -412,10 +429,14 @@ impl Renderer {
         })?;
         let mut vbytes = Vec::with_capacity(mesh.positions.len() * VERTEX_STRIDE as usize);
         for i in 0..mesh.positions.len() {
+            let uv = mesh.uvs.get(i).copied().unwrap_or([0.0; 2]);
             for a in [mesh.positions[i], mesh.normals[i], mesh.colors[i]] {
                 for c in a {
                     vbytes.extend_from_slice(&c.to_le_bytes());
                 }
+            }
+            for c in uv {
+                vbytes.extend_from_slice(&c.to_le_bytes());
             }
         }
         let mut ibytes: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
@@ -426,10 +447,32 @@ impl Renderer {
         let vertices = self.buffer_with(&vbytes, wgpu::BufferUsages::VERTEX);
         let indices = self.buffer_with(&ibytes, wgpu::BufferUsages::INDEX);
         let mut state = self.lock();
+        let material = match &mesh.texture {
+            None => self.white.clone(),
+            Some(t) => {
+                state.textures.retain(|_, (_, bg)| bg.strong_count() > 0);
+                let key = Arc::as_ptr(t) as usize;
+                match state.textures.get(&key).and_then(|(_, bg)| bg.upgrade()) {
+                    Some(bg) => bg,
+                    None => {
+                        let bg = Arc::new(texture::bind_group(
+                            &self.device,
+                            &self.queue,
+                            &self.material_layout,
+                            t,
+                            self.max_dim,
+                        ));
+                        state.textures.insert(key, (t.clone(), Arc::downgrade(&bg)));
+                        bg
+                    }
+                }
+            }
+        };
         state.meshes.push(Some(GpuMesh {
             vertices,
             indices,
             index_count: mesh.indices.len() as u32,
+            material,
         }));
         Ok(MeshId(state.meshes.len() as u32 - 1))
     }
@@ -612,6 +655,7 @@ impl Renderer {
                 let Some(gm) = state.meshes[id.0 as usize].as_ref() else {
                     continue;
                 };
+                pass.set_bind_group(1, &*gm.material, &[]);
                 pass.set_vertex_buffer(0, gm.vertices.slice(..));
                 pass.set_index_buffer(gm.indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..gm.index_count, 0, inst.clone());

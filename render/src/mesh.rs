@@ -17,8 +17,9 @@
 //!   line, even when no face uses that vertex.
 //! - **`vn x y z`**: finite numbers. Normals from the file are used only when
 //!   every face corner names one; otherwise all normals are computed (below).
-//! - **`vt`**: counted (texture coordinates are not used; indices to them are
-//!   still range-checked).
+//! - **`vt u [v [w]]`**: texture coordinates, finite numbers (`v` defaults
+//!   to 0, `w` is ignored). OBJ's `v` points up, so the mesh stores
+//!   `1 - v` (texture rows run top first, as in glTF).
 //! - **`f`**: at least 3 corners `v`, `v/vt`, `v//vn` or `v/vt/vn`; negative
 //!   indices are relative. An index of 0, or one that refers to an element
 //!   not defined *before* the face line, is an error. Polygons are
@@ -31,10 +32,16 @@
 //!   material is used. A missing MTL file or an unknown material name gives a
 //!   *warning* and the default colour (the geometry is still right and
 //!   exporters often omit the MTL). A present but malformed MTL file is an
-//!   *error* naming the MTL file and line. Textures and other MTL keywords
-//!   are ignored.
+//!   *error* naming the MTL file and line. `map_Kd [options] file` is the
+//!   material's base-colour texture (sRGB PNG or JPEG, relative to the MTL
+//!   file's folder; `-clamp on` clamps, otherwise it repeats; other options
+//!   are skipped). A missing texture file is a warning (the material's
+//!   colour is used alone); an undecodable one an error. A mesh draws one
+//!   texture: faces of materials with different textures, or textured and
+//!   untextured faces mixed, are an error naming both materials. Other MTL
+//!   keywords are ignored.
 //! - **Colour** of a corner: vertex colour × `Kd` when both exist, either
-//!   one alone, else [`DEFAULT_COLOR_LINEAR`].
+//!   one alone, else [`DEFAULT_COLOR_LINEAR`]; times the texture, if any.
 //! - **Computed normals** are smooth: area-weighted face normals summed over
 //!   every corner at the same position (so material seams do not crease the
 //!   shading). For flat shading, put normals in the file.
@@ -42,10 +49,13 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::Vec3;
 
 use crate::Error;
+use crate::mtl::{MtlEntry, parse_mtl};
+use crate::texture::Texture;
 
 /// Colour used when a face has neither a vertex colour nor a material:
 /// linear RGB 0.5 (sRGB about 188), a mid grey.
@@ -65,6 +75,12 @@ pub struct Mesh {
     /// Vertex colours, linear RGB in `[0, 1]` (vertex colour × material
     /// diffuse colour, already multiplied).
     pub colors: Vec<[f32; 3]>,
+    /// Texture coordinates `(u, v)`, `v = 0` at the texture's top row:
+    /// empty when the mesh has none, else one per vertex.
+    pub uvs: Vec<[f32; 2]>,
+    /// Base-colour texture multiplying `colors` (sampled at `uvs`, which
+    /// it needs); shared between the LODs of a chain.
+    pub texture: Option<Arc<Texture>>,
     /// Triangle list, counter-clockwise front faces (the renderer lights
     /// both sides, so winding errors in files do not matter).
     pub indices: Vec<u32>,
@@ -99,6 +115,18 @@ impl Mesh {
                 self.normals.len(),
                 self.colors.len()
             ));
+        }
+        if !self.uvs.is_empty() && self.uvs.len() != n {
+            return Err(format!(
+                "{} texture coordinates for {n} vertices",
+                self.uvs.len()
+            ));
+        }
+        if self.texture.is_some() && self.uvs.is_empty() {
+            return Err("a texture but no texture coordinates".into());
+        }
+        if let Some(uv) = self.uvs.iter().find(|t| !t.iter().all(|c| c.is_finite())) {
+            return Err(format!("non-finite texture coordinate {uv:?}"));
         }
         if self.indices.is_empty() {
             return Err("mesh has no triangles".into());
@@ -219,16 +247,23 @@ pub fn parse_obj(
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut vcolors: Vec<Option<[f32; 3]>> = Vec::new();
     let mut normals: Vec<[f32; 3]> = Vec::new();
-    let mut texcoord_count = 0usize;
+    let mut texcoords: Vec<[f32; 2]> = Vec::new();
     let mut points_lines = 0usize;
     let mut warnings = Vec::new();
     let mut warned_w = false;
-    // Materials: name -> Kd. Names are looked up when `usemtl` is seen.
-    let mut materials: HashMap<String, Option<[f32; 3]>> = HashMap::new();
-    let mut current_kd: Option<[f32; 3]> = None;
-    // Unified vertices: (position, normal or MAX, colour bits) -> index.
-    let mut corners: Vec<(u32, u32, Option<[f32; 3]>)> = Vec::new();
-    let mut corner_map: HashMap<(u32, u32, [u32; 3], bool), u32> = HashMap::new();
+    // Materials by name. Names are looked up when `usemtl` is seen.
+    let mut materials: HashMap<String, MtlEntry> = HashMap::new();
+    let mut current = MtlEntry::default();
+    let mut current_name = String::new();
+    // The mesh's one texture, and the first material with / without one.
+    let mut texture: Option<Arc<Texture>> = None;
+    let mut textured_material: Option<String> = None;
+    let mut plain_material: Option<(String, usize)> = None;
+    let mut warned_no_vt = false;
+    // Unified vertices: (position, normal or MAX, texcoord or MAX, colour)
+    // -> index.
+    let mut corners: Vec<(u32, u32, u32, Option<[f32; 3]>)> = Vec::new();
+    let mut corner_map: HashMap<(u32, u32, u32, [u32; 3], bool), u32> = HashMap::new();
     let mut indices: Vec<u32> = Vec::new();
     let mut all_have_normals = true;
 
@@ -279,13 +314,51 @@ pub fn parse_obj(
                 }
                 normals.push([nums[0], nums[1], nums[2]]);
             }
-            "vt" => texcoord_count += 1,
+            "vt" => {
+                let nums = parse_numbers(toks, line_no, "vt", path)?;
+                if !(1..=3).contains(&nums.len()) {
+                    return Err(perr(
+                        line_no,
+                        format!(
+                            "`vt` needs 1 to 3 numbers (u [v [w]]), found {}",
+                            nums.len()
+                        ),
+                    ));
+                }
+                texcoords.push([nums[0], 1.0 - nums.get(1).copied().unwrap_or(0.0)]);
+            }
             "p" | "l" => points_lines += 1,
             "f" => {
+                match (&current.texture, &texture) {
+                    (Some(t), None) if plain_material.is_none() => {
+                        texture = Some(t.clone());
+                        textured_material = Some(current_name.clone());
+                    }
+                    (Some(t), Some(have)) if Arc::ptr_eq(t, have) => {}
+                    (None, None) => {
+                        plain_material.get_or_insert((current_name.clone(), line_no));
+                    }
+                    (None, Some(_)) => {
+                        return Err(perr(
+                            line_no,
+                            one_texture_message(textured_material.as_deref(), &current_name),
+                        ));
+                    }
+                    (Some(_), _) => {
+                        let other = match &plain_material {
+                            Some((m, _)) => m.clone(),
+                            None => textured_material.clone().unwrap_or_default(),
+                        };
+                        return Err(perr(
+                            line_no,
+                            one_texture_message(Some(&current_name), &other),
+                        ));
+                    }
+                }
                 let mut face: Vec<u32> = Vec::new();
                 for tok in toks {
-                    let (vi, ni) =
-                        parse_corner(tok, positions.len(), texcoord_count, normals.len())
+                    let (vi, ti, ni) =
+                        parse_corner(tok, positions.len(), texcoords.len(), normals.len())
                             .map_err(|m| perr(line_no, m))?;
                     let ni_key = match ni {
                         Some(n) => n as u32,
@@ -294,16 +367,24 @@ pub fn parse_obj(
                             u32::MAX
                         }
                     };
-                    let color = match (vcolors[vi], current_kd) {
+                    if ti.is_none() && current.texture.is_some() && !warned_no_vt {
+                        warned_no_vt = true;
+                        warnings.push(format!(
+                            "{}:{line_no}: face of textured material `{current_name}` without texture coordinates; it samples the texture at (0, 0)",
+                            path.display()
+                        ));
+                    }
+                    let ti_key = ti.map_or(u32::MAX, |t| t as u32);
+                    let color = match (vcolors[vi], current.kd) {
                         (Some(v), Some(k)) => Some([v[0] * k[0], v[1] * k[1], v[2] * k[2]]),
                         (Some(v), None) => Some(v),
                         (None, Some(k)) => Some(k),
                         (None, None) => None,
                     };
                     let cb = color.unwrap_or([0.0; 3]).map(f32::to_bits);
-                    let key = (vi as u32, ni_key, cb, color.is_some());
+                    let key = (vi as u32, ni_key, ti_key, cb, color.is_some());
                     let idx = *corner_map.entry(key).or_insert_with(|| {
-                        corners.push((vi as u32, ni_key, color));
+                        corners.push((vi as u32, ni_key, ti_key, color));
                         (corners.len() - 1) as u32
                     });
                     face.push(idx);
@@ -332,7 +413,17 @@ pub fn parse_obj(
                 for name in names {
                     match resolve_mtl(name) {
                         Ok((mtl_path, mtl_bytes)) => {
-                            for (k, v) in parse_mtl(&mtl_bytes, &mtl_path, &mut warnings)? {
+                            let mtl_dir = Path::new(name).parent().unwrap_or(Path::new(""));
+                            let mut resolve_in_mtl_dir = |tex: &str| {
+                                let rel = mtl_dir.join(tex);
+                                resolve_mtl(&rel.to_string_lossy())
+                            };
+                            for (k, v) in parse_mtl(
+                                &mtl_bytes,
+                                &mtl_path,
+                                &mut resolve_in_mtl_dir,
+                                &mut warnings,
+                            )? {
                                 materials.insert(k, v);
                             }
                         }
@@ -349,14 +440,15 @@ pub fn parse_obj(
                     .strip_prefix("usemtl")
                     .unwrap_or("")
                     .trim();
-                current_kd = match materials.get(name) {
-                    Some(kd) => *kd,
+                name.clone_into(&mut current_name);
+                current = match materials.get(name) {
+                    Some(m) => m.clone(),
                     None => {
                         warnings.push(format!(
                             "{}:{line_no}: unknown material `{name}`; default colour used",
                             path.display()
                         ));
-                        None
+                        MtlEntry::default()
                     }
                 };
             }
@@ -384,6 +476,7 @@ pub fn parse_obj(
     }
 
     let use_file_normals = all_have_normals && !normals.is_empty();
+    let has_uvs = corners.iter().any(|c| c.2 != u32::MAX);
     let mut mesh = Mesh {
         positions: corners.iter().map(|c| positions[c.0 as usize]).collect(),
         normals: corners
@@ -401,8 +494,17 @@ pub fn parse_obj(
             .collect(),
         colors: corners
             .iter()
-            .map(|c| c.2.unwrap_or(DEFAULT_COLOR_LINEAR))
+            .map(|c| c.3.unwrap_or(DEFAULT_COLOR_LINEAR))
             .collect(),
+        uvs: if has_uvs || texture.is_some() {
+            corners
+                .iter()
+                .map(|c| texcoords.get(c.2 as usize).copied().unwrap_or([0.0; 2]))
+                .collect()
+        } else {
+            Vec::new()
+        },
+        texture,
         indices,
         normals_computed: false,
     };
@@ -413,74 +515,17 @@ pub fn parse_obj(
     Ok(LoadedMesh { mesh, warnings })
 }
 
-/// A material: its name and diffuse colour `Kd` (linear RGB), if any.
-type Material = (String, Option<[f32; 3]>);
-
-/// Parses an MTL file into material name -> diffuse colour (linear RGB,
-/// `None` when the material has no usable `Kd`).
-fn parse_mtl(
-    bytes: &[u8],
-    path: &Path,
-    warnings: &mut Vec<String>,
-) -> Result<Vec<Material>, Error> {
-    let text = decode_text(bytes, path)?;
-    let perr = |line: usize, message: String| Error::Parse {
-        path: path.to_owned(),
-        line,
-        message,
-    };
-    let mut out: Vec<Material> = Vec::new();
-    for (line_idx, raw) in split_lines(&text).enumerate() {
-        let line_no = line_idx + 1;
-        let content = raw.split('#').next().unwrap_or("");
-        let mut toks = content.split_whitespace();
-        let Some(kw) = toks.next() else { continue };
-        match kw {
-            "newmtl" => {
-                let name = content
-                    .trim_start()
-                    .strip_prefix("newmtl")
-                    .unwrap_or("")
-                    .trim();
-                if name.is_empty() {
-                    return Err(perr(line_no, "`newmtl` without a name".into()));
-                }
-                out.push((name.to_string(), None));
-            }
-            "Kd" => {
-                let Some(last) = out.last_mut() else {
-                    return Err(perr(line_no, "`Kd` before any `newmtl`".into()));
-                };
-                let rest: Vec<&str> = toks.collect();
-                if matches!(rest.first(), Some(&"spectral") | Some(&"xyz")) {
-                    warnings.push(format!(
-                        "{}:{line_no}: `Kd {}` is not supported; default colour used",
-                        path.display(),
-                        rest[0]
-                    ));
-                    continue;
-                }
-                let nums = parse_numbers(rest.into_iter(), line_no, "Kd", path)?;
-                let kd = match nums.len() {
-                    1 => [nums[0]; 3],
-                    3 => [nums[0], nums[1], nums[2]],
-                    n => {
-                        return Err(perr(
-                            line_no,
-                            format!("`Kd` needs 1 or 3 numbers, found {n}"),
-                        ));
-                    }
-                };
-                last.1 = Some(kd.map(|x| x.clamp(0.0, 1.0)));
-            }
-            _ => {}
-        }
-    }
-    Ok(out)
+/// The error for a mesh whose faces need two textures (or a texture and
+/// none).
+fn one_texture_message(textured: Option<&str>, other: &str) -> String {
+    format!(
+        "material `{}` has a texture and material `{other}` another or none; acuity draws one base-colour texture per mesh (split the mesh or bake the materials into one texture)",
+        textured.unwrap_or("")
+    )
 }
 
 /// Parses finite `f32`s; the message names the keyword and the bad token.
-fn parse_numbers<'a>(
+pub(crate) fn parse_numbers<'a>(
     toks: impl Iterator<Item = &'a str>,
     line: usize,
     kw: &str,
@@ -511,13 +556,14 @@ fn parse_numbers<'a>(
     Ok(out)
 }
 
-/// Parses one face corner `v[/vt[/vn]]` into 0-based (position, normal).
+/// Parses one face corner `v[/vt[/vn]]` into 0-based (position, texture
+/// coordinate, normal).
 fn parse_corner(
     tok: &str,
     n_pos: usize,
     n_tex: usize,
     n_norm: usize,
-) -> Result<(usize, Option<usize>), String> {
+) -> Result<(usize, Option<usize>, Option<usize>), String> {
     let parts: Vec<&str> = tok.split('/').collect();
     if parts.len() > 3 {
         return Err(format!("face corner `{tok}` has more than 3 parts"));
@@ -547,14 +593,15 @@ fn parse_corner(
     };
     let v = resolve(parts[0], n_pos, "position")?
         .ok_or_else(|| format!("face corner `{tok}` has no position index"))?;
-    if let Some(t) = parts.get(1) {
-        resolve(t, n_tex, "texture coordinate")?;
-    }
+    let t = match parts.get(1) {
+        Some(s) => resolve(s, n_tex, "texture coordinate")?,
+        None => None,
+    };
     let n = match parts.get(2) {
         Some(s) => resolve(s, n_norm, "normal")?,
         None => None,
     };
-    Ok((v, n))
+    Ok((v, t, n))
 }
 
 /// Decodes the text of an OBJ or MTL file as the loader reads it: UTF-8
@@ -613,6 +660,7 @@ pub fn split_lines(text: &str) -> impl Iterator<Item = &str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::Wrap;
 
     fn parse(s: &str) -> Result<LoadedMesh, Error> {
         parse_obj(s.as_bytes(), Path::new("t.obj"), &mut |_| {
@@ -656,6 +704,54 @@ mod tests {
         let (_, r) = m.bounding_sphere();
         let want = 0.5e-30 * std::f32::consts::SQRT_2;
         assert!((r / want - 1.0).abs() < 1e-5, "{r}");
+    }
+
+    /// A 2x1 PNG: one red texel, one blue.
+    fn two_texel_png() -> Vec<u8> {
+        let t = crate::Texture::from_rgba(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 255], "t").unwrap();
+        crate::gltf_write::encode_png(&t).unwrap()
+    }
+
+    fn parse_with_files(obj: &str, mtl: &str) -> Result<LoadedMesh, Error> {
+        let (mtl, png) = (mtl.as_bytes().to_vec(), two_texel_png());
+        parse_obj(obj.as_bytes(), Path::new("t.obj"), &mut |name| match name {
+            "t.mtl" => Ok((PathBuf::from(name), mtl.clone())),
+            "tex.png" => Ok((PathBuf::from(name), png.clone())),
+            _ => Err(std::io::Error::from(std::io::ErrorKind::NotFound)),
+        })
+    }
+
+    const TEXTURED_QUAD: &str = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl a\nf 1/1 2/2 3/3 4/4\n";
+
+    #[test]
+    fn vt_and_map_kd_give_a_textured_mesh() {
+        let m = parse_with_files(
+            TEXTURED_QUAD,
+            "newmtl a\nKd 1 1 1\nmap_Kd -clamp on tex.png\n",
+        )
+        .unwrap()
+        .mesh;
+        let t = m.texture.as_ref().expect("textured");
+        assert_eq!((t.width, t.height, t.wrap[0]), (2, 1, Wrap::ClampToEdge));
+        // OBJ's v points up; the mesh's rows run top first.
+        assert_eq!(m.uvs, [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    }
+
+    #[test]
+    fn a_missing_texture_warns_and_two_textures_are_an_error() {
+        let l = parse_with_files(TEXTURED_QUAD, "newmtl a\nmap_Kd gone.png\n").unwrap();
+        assert!(l.mesh.texture.is_none());
+        assert!(
+            l.warnings.iter().any(|w| w.contains("gone.png")),
+            "{:?}",
+            l.warnings
+        );
+        let two = format!("{TEXTURED_QUAD}usemtl b\nf 1/1 3/3 4/4\n");
+        let e = parse_with_files(&two, "newmtl a\nmap_Kd tex.png\nnewmtl b\n").unwrap_err();
+        assert!(matches!(e, Error::Parse { line: 13, .. }), "{e}");
+        assert!(e.to_string().contains("one base-colour texture"), "{e}");
+        let e = parse_with_files(TEXTURED_QUAD, "newmtl a\nmap_Kd t.mtl\n").unwrap_err();
+        assert!(e.to_string().contains("t.mtl"), "{e}");
     }
 
     #[test]

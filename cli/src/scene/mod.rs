@@ -18,6 +18,9 @@
 //! mesh = "../models/bunny.obj"       # generate LODs from one mesh ...
 //! generate_triangles = [3674, 834, 254, 76]
 //! # lods = ["a.obj", "b.obj"]        # ... or give the chain finest first
+//! # lods = ["rock.glb"]              # ... or one glTF carrying its chain (MSFT_lod
+//! #                                  #     or nodes named *_LOD0, *_LOD1, ...)
+//! # Mesh files are OBJ (+ MTL, map_Kd) or glTF 2.0 (.gltf, .glb).
 //! # procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }  # or "sphere", "torus"
 //! transform = { position = [0, 0, -5], rotation_deg = [30, 0, 0], scale = 0.1 }
 //!
