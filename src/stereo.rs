@@ -3,7 +3,8 @@
 //! Selection runs once per frame, from the centre eye (the head pose,
 //! midway between the eyes), over a display that holds both eyes' fields
 //! of view at the finer of their pixel densities, with every bounding
-//! sphere grown by the larger eye offset ([`SelectorSettings::radius_margin`]).
+//! sphere grown by twice the larger eye offset `|o|` (the IPD, for eyes
+//! either side of the head; [`SelectorSettings::radius_margin`]).
 //! Engines do the same (one LOD per object from a centre view, so the two
 //! eyes never show different LODs). Why it is right for each eye, with the
 //! eyes' view axes parallel to the head's (as OpenXR reports them on most
@@ -12,17 +13,27 @@
 //! - **Culling**: an eye's frustum is the centre frustum moved by the eye's
 //!   offset `o`, so a point an eye sees, moved back by `o`, lies in the
 //!   centre frustum, and the grown sphere holds it.
-//! - **Size**: the eye can be `|o|` nearer the object, so it sees the
-//!   sphere at most as large as `2 asin(r / (d - |o|))`, which is below
-//!   the grown sphere's `2 asin((r + |o|) / d)` whenever the centre eye is
-//!   outside the grown sphere (inside it, LOD 0 is chosen anyway).
-//! - **Eccentricity**: the object's direction from the eye and from the
-//!   centre differ by at most `asin(|o| / d)`, and growing the radius by
-//!   `|o|` widens its angular radius by at least that (`asin` is convex),
-//!   so the eye's eccentricity is never below the one judged. With an eye
+//! - **Size and eccentricity**: the eye can be `|o|` nearer the object
+//!   (distance `d` from the centre eye), so its angular radius is at most
+//!   `asin(r / (d - |o|))`, and the object's direction from it differs
+//!   from the centre's by at most `asin(|o| / (d - |o|))` (law of sines).
+//!   Their sum is at most `asin((r + |o|) / (d - |o|))` (`asin` is convex),
+//!   which the grown sphere's angular radius `asin((r + 2|o|) / d)` is not
+//!   below whenever the centre eye is outside the grown sphere (inside it,
+//!   LOD 0 is chosen anyway). So the eye sees the object no smaller and
+//!   no farther from its gaze than judged. Growing by `|o|` alone covers
+//!   size but not this sum; a property test found the case. With an eye
 //!   tracker the two gaze rays converge on the fixation point; their
 //!   parallax there, `|o| / distance`, is within the tracker's default
 //!   margin of 1 deg beyond about 1.8 m for a 64 mm IPD.
+//! - **Viewpoint**: with [`crate::ViewpointRule::WorstCase`] the features
+//!   judged do not depend on the direction the object is seen from, and
+//!   the one selection is never coarser than either eye's own (a property
+//!   test checks it). With `Nearest` (the default) the features are the
+//!   sampled viewpoint nearest the centre eye's direction; an eye sees the
+//!   object from up to `asin(|o| / (d - |o|))` away and can fall on a
+//!   neighbouring viewpoint whose features ask for more detail, so there
+//!   the rig is as right as the viewpoint sampling is fine.
 //! - **Velocity** is judged from the centre eye; the eyes' own parallax
 //!   motion adds to it only for objects within a few head lengths.
 
@@ -126,11 +137,11 @@ impl StereoRig {
             .with_refresh_hz(l.refresh_hz())
     }
 
-    /// The larger distance of an eye from the centre eye, world units: the
-    /// [`SelectorSettings::radius_margin`] that makes one selection right
-    /// for both eyes.
+    /// Twice the larger distance of an eye from the centre eye, world
+    /// units: the [`SelectorSettings::radius_margin`] that makes one
+    /// selection right for both eyes (see the module docs).
     pub fn radius_margin(&self) -> f32 {
-        self.left.offset.length().max(self.right.offset.length())
+        2.0 * self.left.offset.length().max(self.right.offset.length())
     }
 
     /// `settings` with [`StereoRig::radius_margin`] set.

@@ -237,7 +237,7 @@ pub struct SelectorSettings {
     /// units: a sphere grown by the distance between the selecting camera
     /// and any eye that sees the frame holds everything that eye sees of
     /// the object, larger and nearer the gaze. [`crate::StereoRig`] sets it
-    /// to the larger eye offset, so one selection is right for both eyes.
+    /// to twice the larger eye offset, so one selection serves both eyes.
     /// Any value not finite and `> 0` counts as 0 (the default).
     pub radius_margin: f32,
     /// Whether each `select*` call lists the objects whose selection

@@ -92,7 +92,7 @@ fn a_headset_eye_gives_its_edges_and_both_eyes_select_together() {
     assert_eq!(s.display.fov_edges_deg, [-54.0, 50.0, 52.0, -52.0]);
     let (both, margin) = s.display.selection_display().unwrap();
     assert_eq!(both.fov_deg(), [108.0, 104.0]);
-    assert!((margin - 0.032).abs() < 1e-7);
+    assert!((margin - 0.064).abs() < 1e-7);
     assert_eq!(s.display.eye_display().unwrap().fov_edges().left_deg, -54.0);
     assert_eq!(
         s.display.rendered_eye_offset_m(),
