@@ -1,12 +1,14 @@
 //! The files an object's analysis reads, hashed for the profile cache: a
 //! mesh file and every file it draws on (MTL files and their textures for
 //! OBJ, external buffers and images for glTF), so editing a texture alone
-//! makes the cached profile stale.
+//! makes the cached profile stale; with the generation parameters and the
+//! settings, every input of an analysis ([`input_hashes`]).
 
 use std::path::{Path, PathBuf};
 
 use crate::Error;
-use crate::pipeline::InputHash;
+use crate::lods::{self, ProceduralParams};
+use crate::pipeline::{AnalysisSettings, ObjectSource};
 
 /// BLAKE3 of `bytes`, 64 lowercase hex digits (the form of every hash
 /// in a profile).
@@ -77,4 +79,91 @@ fn statements(bytes: &[u8], path: &Path, keyword: &str) -> Vec<String> {
         }
     }
     out
+}
+
+/// A content hash of one input (a file, or a set of parameters).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct InputHash {
+    /// The file's path as given (MTL files: as resolved), or a parameter
+    /// description such as `settings` or `lod-generation`.
+    pub what: String,
+    /// BLAKE3 of the content, 64 lowercase hex digits; `missing` for an MTL
+    /// file named by an OBJ but absent (the loader then warns and uses the
+    /// default colour).
+    pub hash_hex: String,
+}
+
+/// Content hashes of every input of `object` under `settings`, computed
+/// without loading meshes or rendering: each mesh file; for an OBJ each
+/// MTL file it names (`mtllib`, resolved next to the OBJ) and each texture
+/// those name (`map_Kd`), for a glTF each external buffer and image
+/// (`missing` for a named file that is absent); the LOD-generation or
+/// procedural parameters, and the settings (with [`crate::pipeline::ANALYSIS_VERSION`]).
+/// Equal hashes mean the analysis would give the same result. Unreadable
+/// mesh files are an [`Error::Io`].
+pub fn input_hashes(
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+) -> Result<Vec<InputHash>, Error> {
+    let mut out = Vec::new();
+    let hash_str = |s: &str| blake3::hash(s.as_bytes()).to_hex().to_string();
+    let generation = |targets: &[u32]| InputHash {
+        what: "lod-generation".into(),
+        hash_hex: hash_str(&format!("meshopt-simplify targets={}", list(targets))),
+    };
+    match object {
+        ObjectSource::Files { lod_paths, .. } => {
+            for p in lod_paths {
+                crate::input_files::hash_mesh_file(p, &mut out)?;
+            }
+        }
+        ObjectSource::Generated {
+            path,
+            triangle_targets,
+            ..
+        } => {
+            crate::input_files::hash_mesh_file(path, &mut out)?;
+            out.push(generation(triangle_targets));
+        }
+        ObjectSource::Procedural {
+            params,
+            triangle_targets,
+            ..
+        } => {
+            let ProceduralParams { triangles, seed } = *params;
+            out.push(InputHash {
+                what: lods::procedural_description(*params).display().to_string(),
+                hash_hex: hash_str(&format!("bumpy-torus triangles={triangles} seed={seed}")),
+            });
+            out.push(generation(triangle_targets));
+        }
+        ObjectSource::Shape {
+            shape,
+            triangle_targets,
+            ..
+        } => {
+            out.push(InputHash {
+                what: format!("procedural:{}", shape.name()),
+                hash_hex: hash_str(&format!(
+                    "tessellate {} targets={}",
+                    shape.name(),
+                    list(triangle_targets)
+                )),
+            });
+        }
+    }
+    out.push(InputHash {
+        what: "settings".into(),
+        hash_hex: hash_str(&settings.cache_key()),
+    });
+    Ok(out)
+}
+
+/// `1,2,3`: a list of counts as cache keys write it.
+fn list(values: &[u32]) -> String {
+    values
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
 }
