@@ -5,10 +5,12 @@
 //! `cargo run --example minimal -- rock.acp` loads one written by
 //! `acuity preprocess` instead.
 
-use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
+mod common;
+
 use acuity::{
     Camera, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings, Tracker,
 };
+use common::demo_profile;
 use glam::{DVec3, Quat};
 
 fn main() -> Result<(), acuity::Error> {
@@ -95,32 +97,4 @@ fn main() -> Result<(), acuity::Error> {
     );
     println!("the hero rock (bias 4) draws LOD {hero_lod:?}, its neighbour LOD {other:?}");
     Ok(())
-}
-
-/// A stand-in for a profile from `acuity preprocess`: 4 LODs of 4000 to
-/// 60 triangles, one viewpoint, one size rung, each transition removing
-/// one feature of half the frequency of the one before.
-fn demo_profile() -> Profile {
-    let transitions = (0..3)
-        .map(|t| TransitionFeatures {
-            feature_count: 1,
-            features: vec![Feature {
-                freq_cdiam: 200.0 / (1 << t) as f32,
-                area_diam2: 0.01,
-                luminance: [0.2, 0.5],
-                masker: [0.2, 0.5],
-            }],
-        })
-        .collect();
-    Profile {
-        format_version: PROFILE_FORMAT_VERSION,
-        name: "rock".into(),
-        lod_triangles: vec![4000, 1000, 250, 60],
-        bounding_radius: 1.0,
-        viewpoints: vec![[0.0, 0.0, 1.0]],
-        rung_diameters_px: vec![256.0],
-        transitions,
-        settings: Default::default(),
-        inputs: vec![],
-    }
 }
