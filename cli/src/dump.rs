@@ -50,13 +50,6 @@ pub fn sequence_name(policy: Policy, knob: f64) -> String {
     format!("{}_{knob}", policy.name())
 }
 
-/// The gaze point in pixels of an image of `resolution_px` covering
-/// `fov_deg` (the player's projection, [`crate::frames::World::view_proj`]):
-/// [`acuity::display::direction_to_pixel`] of the camera-space gaze.
-pub fn gaze_pixel(gaze_camera: DVec3, resolution_px: [u32; 2], fov_deg: [f64; 2]) -> [f64; 2] {
-    acuity::display::direction_to_pixel(gaze_camera, resolution_px, fov_deg)
-}
-
 /// A dump being written: PNGs as frames come, `gaze.csv` and
 /// `display.json` on [`FrameDump::finish`].
 #[derive(Debug)]
@@ -93,7 +86,8 @@ impl FrameDump {
         })
     }
 
-    /// The gaze point of a frame, in pixels ([`gaze_pixel`]).
+    /// The gaze point of a frame, in pixels
+    /// ([`acuity::display::direction_to_pixel_in_edges`]).
     pub fn gaze_pixel(&self, gaze_camera: DVec3) -> [f64; 2] {
         acuity::display::direction_to_pixel_in_edges(
             gaze_camera,
@@ -276,6 +270,8 @@ mod tests {
 
     const RES: [u32; 2] = [640, 480];
     const FOV: [f64; 2] = [43.6, 33.4];
+
+    use acuity::display::direction_to_pixel as gaze_pixel;
 
     #[test]
     fn gaze_pixel_maps_centre_corners_and_sides() {

@@ -12,10 +12,11 @@
 use std::time::Instant;
 
 use acuity::Camera;
+use acuity::display::projection_columns;
 use acuity::terrain::{Refinement, Terrain};
 use acuity_render::{Lighting, Mesh, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 
 /// Widest horizontal field of view drawn, deg.
 pub const MAX_DRAWN_FOV_DEG: f32 = 120.0;
@@ -151,14 +152,9 @@ impl TerrainRenderer {
     /// World to clip: the camera's view with a perspective of the drawn
     /// field of view, infinite far plane, depth 0 to 1 (wgpu).
     fn view_proj(&self, camera: &Camera) -> Mat4 {
-        let sx = 1.0 / (0.5 * self.fov_deg[0]).to_radians().tan();
-        let sy = 1.0 / (0.5 * self.fov_deg[1]).to_radians().tan();
-        let proj = Mat4::from_cols(
-            Vec4::new(sx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, sy, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, -1.0, -1.0),
-            Vec4::new(0.0, 0.0, -NEAR_PLANE_M, 0.0),
-        );
+        let [h, v] = self.fov_deg.map(|a| 0.5 * f64::from(a));
+        let columns = projection_columns([-h, h, v, -v], f64::from(NEAR_PLANE_M));
+        let proj = Mat4::from_cols_array_2d(&columns.map(|c| c.map(|x| x as f32)));
         let view = Mat4::from_rotation_translation(camera.orientation, camera.position.as_vec3())
             .inverse();
         proj * view
