@@ -59,6 +59,17 @@
 //! area, in degrees at the size the object has on screen
 //! ([`Csf::for_field`]).
 //!
+//! Area pooling (optional). The rule above asks every feature to be
+//! invisible. Judgements of a whole image pool differences over it:
+//! FovVideoVDP sums its per-pixel differences with a p-norm of exponent
+//! `beta = 1.52` normalised by the image's area, so a clearly visible
+//! difference a few pixels large costs it little. With
+//! [`Observer::pooling_area_deg2`] `= A > 0`, a feature of area `a < A`
+//! deg² counts with its contrast scaled by `(a / A)^(1 / beta)`, the
+//! contrast at which a feature of area `A` pools to the same amount
+//! ([`Csf::pooled_contrast`]). This lets small visible differences go in
+//! exchange for triangles; 0, the default, keeps the threshold rule.
+//!
 //! Calibration. The display's photometry ([`Photometry`], part of
 //! [`crate::Display`]) turns a feature's relative luminances into contrast
 //! and sets the adapting luminance; the observer ([`Observer`], part of
@@ -196,6 +207,11 @@ pub struct Observer {
     /// [`DEFAULT_MASKING`]): a change below about `k` times the contrast it
     /// sits on is invisible. 0 turns masking off.
     pub masking: f32,
+    /// The area over which a difference counts in full, deg² (finite,
+    /// `>= 0`; 0, the default, turns area pooling off): a feature of
+    /// smaller area `a` counts with its contrast scaled by
+    /// `(a / pooling_area_deg2)^(1 / beta)` ([`Csf::pooled_contrast`]).
+    pub pooling_area_deg2: f32,
 }
 
 impl Default for Observer {
@@ -203,6 +219,7 @@ impl Default for Observer {
         Self {
             sensitivity: 1.0,
             masking: DEFAULT_MASKING,
+            pooling_area_deg2: 0.0,
         }
     }
 }
@@ -220,6 +237,12 @@ impl Observer {
             return Err(Error::invalid(
                 "masking",
                 format!("{} is not a finite constant >= 0", self.masking),
+            ));
+        }
+        if !(self.pooling_area_deg2.is_finite() && self.pooling_area_deg2 >= 0.0) {
+            return Err(Error::invalid(
+                "pooling_area_deg2",
+                format!("{} is not a finite area >= 0", self.pooling_area_deg2),
             ));
         }
         Ok(())
@@ -254,6 +277,7 @@ pub const FIELD_RANGE_DEG: (f32, f32) = (0.05, 60.0);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Csf {
     masking: f32,
+    pooling_area_deg2: f32,
     luminance_cd_m2: f64,
     scale: f64,
 }
@@ -281,6 +305,7 @@ impl Csf {
         observer.validate()?;
         Ok(Self {
             masking: observer.masking,
+            pooling_area_deg2: observer.pooling_area_deg2,
             luminance_cd_m2: f64::from(photometry.adapting_cd_m2),
             scale: f64::from(observer.sensitivity),
         })
@@ -368,6 +393,29 @@ impl Csf {
         }
         let p = MASKING_EXPONENT;
         (c.powf(p) - m.powf(p)).max(0.0).powf(1.0 / p).min(c)
+    }
+}
+
+/// FovVideoVDP 1.2's exponent of spatial pooling (`beta`): how its
+/// difference maps sum over the image.
+pub const POOLING_EXPONENT: f32 = 1.52134;
+
+impl Csf {
+    /// The contrast with which a difference of (effective) contrast
+    /// `contrast` over `area_deg2` deg² counts: unchanged when area pooling
+    /// is off or the area is at least [`Observer::pooling_area_deg2`],
+    /// else scaled by `(area / pooling_area)^(1 / beta)` (`beta` =
+    /// [`POOLING_EXPONENT`]; a `NaN` or negative area counts as 0).
+    /// Non-decreasing in both arguments.
+    pub fn pooled_contrast(&self, contrast: f32, area_deg2: f32) -> f32 {
+        if self.pooling_area_deg2 <= 0.0 {
+            return contrast;
+        }
+        let share = (area_deg2.max(0.0) / self.pooling_area_deg2).min(1.0);
+        if share.is_nan() {
+            return 0.0;
+        }
+        contrast * share.powf(1.0 / POOLING_EXPONENT)
     }
 }
 
@@ -545,6 +593,38 @@ mod tests {
         )
         .unwrap();
         assert_eq!(off.masked_contrast(0.05, 1.0), 0.05);
+    }
+
+    #[test]
+    fn area_pooling_scales_small_differences_by_their_share_of_the_pooling_area() {
+        let off = csf();
+        assert_eq!(off.pooled_contrast(0.3, 0.001), 0.3);
+        let on = Csf::new(
+            &Photometry::default(),
+            &Observer {
+                pooling_area_deg2: 2.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(on.pooled_contrast(0.3, 2.0), 0.3);
+        assert_eq!(on.pooled_contrast(0.3, 50.0), 0.3);
+        let quarter = on.pooled_contrast(0.3, 0.5);
+        assert!((quarter - 0.3 * 0.25f32.powf(1.0 / POOLING_EXPONENT)).abs() < 1e-6);
+        assert_eq!(on.pooled_contrast(0.3, f32::NAN), 0.0);
+        assert_eq!(on.pooled_contrast(0.3, -1.0), 0.0);
+        let mut prev = 0.0;
+        for i in 0..=100 {
+            let c = on.pooled_contrast(0.3, i as f32 / 25.0);
+            assert!(c >= prev, "{i}");
+            prev = c;
+        }
+        let bad = Observer {
+            pooling_area_deg2: f32::INFINITY,
+            ..Default::default()
+        };
+        let e = Csf::new(&Photometry::default(), &bad).unwrap_err();
+        assert!(e.to_string().contains("pooling_area_deg2"), "{e}");
     }
 
     #[test]

@@ -97,11 +97,12 @@ pub fn feature_critical_cdiam(
     photometry: &Photometry,
     csfs: &mut FieldCsfs<'_>,
 ) -> f32 {
-    let contrast = csfs.csf.masked_contrast(
+    let masked = csfs.csf.masked_contrast(
         photometry.contrast(feature.luminance),
         photometry.contrast(feature.masker),
     );
     let field_deg = feature.area_diam2.sqrt() * diameter_deg;
+    let contrast = csfs.csf.pooled_contrast(masked, field_deg * field_deg);
     csfs.get(field_deg)
         .critical_cdiam(feature.freq_cdiam, contrast)
 }
@@ -257,6 +258,34 @@ mod tests {
             ..f
         };
         assert!(feature_critical_cdiam(&small, DIAMETER_DEG, &p, &mut csfs) > q);
+    }
+
+    #[test]
+    fn area_pooling_lets_only_features_smaller_than_its_area_go_sooner() {
+        let p = Photometry::default();
+        let plain = Csf::new(&p, &Observer::default()).unwrap();
+        let pooled = Csf::new(
+            &p,
+            &Observer {
+                pooling_area_deg2: 1.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let q = |csf: &Csf, area_diam2: f32| {
+            let f = Feature {
+                freq_cdiam: 20.0,
+                area_diam2,
+                luminance: [0.1, 0.6],
+                masker: [0.1, 0.6],
+            };
+            feature_critical_cdiam(&f, DIAMETER_DEG, &p, &mut FieldCsfs::new(csf))
+        };
+        // 0.0001 diam² of a 10 deg object: 0.01 deg², a hundredth of the
+        // pooling area.
+        assert!(q(&pooled, 0.0001) > q(&plain, 0.0001));
+        // 0.02 diam²: 2 deg², more than the pooling area.
+        assert_eq!(q(&pooled, 0.02), q(&plain, 0.02));
     }
 
     #[test]

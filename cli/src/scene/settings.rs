@@ -18,6 +18,7 @@ impl Ctx<'_> {
         let observer = acuity::Observer {
             sensitivity: o.sensitivity.unwrap_or(d.sensitivity),
             masking: o.masking.unwrap_or(d.masking),
+            pooling_area_deg2: o.pooling_area_deg2.unwrap_or(d.pooling_area_deg2),
         };
         match observer.validate() {
             Err(acuity::Error::InvalidParameter { name, reason }) => {
