@@ -64,15 +64,10 @@ fn parse_point(text: &str) -> Result<(f32, f32), String> {
     Ok((parse(a)?, parse(b)?))
 }
 
-/// Runs `acuity blur`; prints the error on one line on failure.
+/// Runs `acuity blur`; prints the error on one line on failure, exit code
+/// as [`crate::exit`] says.
 pub fn command(args: &BlurArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    crate::exit::report(run(args))
 }
 
 fn run(args: &BlurArgs) -> anyhow::Result<()> {
@@ -110,7 +105,7 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
         );
         panels.push((out, label));
     }
-    side_by_side(&panels)
+    side_by_side(&panels)?
         .save(&args.out)
         .with_context(|| format!("writing {}", args.out.display()))?;
     println!("wrote {}", args.out.display());
@@ -152,7 +147,7 @@ fn linear_to_srgb8(v: f32) -> u8 {
 }
 
 /// The panels left to right, each labelled in a strip above it.
-fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
+fn side_by_side(panels: &[(Image, String)]) -> anyhow::Result<RgbImage> {
     const STRIP: u32 = 40;
     const GAP: u32 = 8;
     let (w, h) = (panels[0].0.width as u32, panels[0].0.height as u32);
@@ -160,8 +155,7 @@ fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
     let mut out = RgbImage::from_pixel(n * w + (n - 1) * GAP, h + STRIP, Rgb([255, 255, 255]));
     for (i, (panel, label)) in panels.iter().enumerate() {
         let x0 = i as u32 * (w + GAP);
-        let scale = (w / 400).clamp(1, 4);
-        crate::plot::draw_text(&mut out, x0 as i64 + 4, 8, label, scale, [0, 0, 0]);
+        crate::plot::draw_label(&mut out, x0 as i32 + 4, 8, label, 24)?;
         let c = panel.channels;
         for y in 0..h {
             for x in 0..w {
@@ -175,7 +169,7 @@ fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
             }
         }
     }
-    out
+    Ok(out)
 }
 
 /// A photo-like test image in linear light: a sky, fractal hills with a
