@@ -10,7 +10,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::plot::{PALETTE, PLOT_SIZE_PX, register_font};
+use crate::plot::{PALETTE, PLOT_SIZE_PX, register_font, tick_label};
 
 /// A grouped bar chart.
 #[derive(Debug, Clone, Default)]
@@ -103,6 +103,7 @@ fn draw_bar_plot<DB: DrawingBackend>(
                 String::new()
             }
         })
+        .y_label_formatter(&|v| tick_label(*v))
         .y_desc(plot.y_label.as_str())
         .label_style(("sans-serif", 13))
         .axis_desc_style(("sans-serif", 15))

@@ -1,7 +1,7 @@
 //! Line plots as PNG and SVG, drawn with `plotters`: axes with ticks and
 //! labels (with units), one coloured line per series, a legend. Text uses
 //! DejaVu Sans embedded in the binary (`assets/`, licence beside it), so no
-//! system fonts are needed; the SVG names the same family.
+//! system fonts are needed; SVGs leave text to the viewer's `sans-serif`.
 //!
 //! Also [`draw_label`] for text on images, and what [`crate::barplot`]
 //! shares: [`PALETTE`], [`PLOT_SIZE_PX`], [`register_font`].
@@ -268,7 +268,7 @@ fn draw_line_plot<DB: DrawingBackend>(
 }
 
 /// A tick label: few digits, no trailing zeros.
-fn tick_label(v: f64) -> String {
+pub(crate) fn tick_label(v: f64) -> String {
     let a = v.abs();
     if a != 0.0 && !(1e-3..1e6).contains(&a) {
         return format!("{v:.0e}");

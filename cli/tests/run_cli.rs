@@ -373,7 +373,8 @@ fn unusable_cached_profiles_are_replaced_with_a_warning_and_io_errors_print_once
         300,
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    // Replacing the folder fails while running: exit 1, not bad input.
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
     for name in ["corrupt", "fifo", "device", "folder"] {
         let warning = stderr
             .lines()
@@ -659,7 +660,8 @@ fn fvvdp_without_a_python_is_a_clear_error() {
         &["run", s.to_str().unwrap(), "--metric", "fvvdp", "--quiet"],
         &nowhere,
     );
-    assert_eq!(o.status.code(), Some(2));
+    // The metric cannot run here: a failure, not bad input.
+    assert_eq!(o.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(stderr.starts_with("error: "), "{stderr}");
     assert!(stderr.contains("no-such-python"), "{stderr}");
@@ -827,7 +829,7 @@ fn fvvdp_failures_say_why() {
         ];
         args.extend(COARSE);
         let o = acuity_with_python(&args, python);
-        assert_eq!(o.status.code(), Some(2));
+        assert_eq!(o.status.code(), Some(1));
         String::from_utf8_lossy(&o.stderr).into_owned()
     };
     // The script's exit code 3: pyfvvdp does not import.
