@@ -114,7 +114,8 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
 
 /// A PNG as linear-light RGB.
 fn load_linear(path: &Path) -> anyhow::Result<Image> {
-    let decoded = image::open(path).with_context(|| format!("reading {}", path.display()))?;
+    let decoded = image::open(path)
+        .map_err(|e| crate::exit::input_error(format!("reading {}: {e}", path.display())))?;
     let rgb = decoded.to_rgb32f();
     let (width, height) = (rgb.width() as usize, rgb.height() as usize);
     let data = rgb.into_raw().into_iter().map(srgb_to_linear).collect();

@@ -6,14 +6,17 @@
 //!
 //! An error is input's fault when any error along its cause chain is of an
 //! input kind ([`is_input_error`]): the typed errors of the scene, profile
-//! and mesh parsers, and [`InputError`], which the commands raise for
+//! and mesh parsers and of the checks of images and threshold tables, and
+//! [`InputError`], which the commands raise for
 //! values clap cannot check by itself ([`input_error`]). Everything else
 //! is a run-time failure.
 
 use std::process::ExitCode;
 
+use crate::foveate::FoveateError;
 use crate::preprocess::PreprocessError;
 use crate::scene::SceneError;
+use crate::screen_size::ScreenSizeError;
 
 /// Exit code for bad arguments or bad input.
 pub const INPUT: u8 = 2;
@@ -43,7 +46,11 @@ macro_rules! bail_input {
 /// Whether any error along `e`'s cause chain blames the input.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|cause| {
-        if cause.is::<InputError>() || cause.is::<SceneError>() {
+        if cause.is::<InputError>()
+            || cause.is::<SceneError>()
+            || cause.is::<FoveateError>()
+            || cause.is::<ScreenSizeError>()
+        {
             return true;
         }
         if let Some(e) = cause.downcast_ref::<acuity::Error>() {

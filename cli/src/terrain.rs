@@ -165,10 +165,10 @@ pub fn command(args: &TerrainArgs) -> ExitCode {
 
 fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     if !(0.1..=600.0).contains(&args.duration) {
-        anyhow::bail!("--duration {} s is outside [0.1, 600]", args.duration);
+        crate::bail_input!("--duration {} s is outside [0.1, 600]", args.duration);
     }
     if !(args.velocity_window > 0.0 && args.velocity_window <= 10.0) {
-        anyhow::bail!(
+        crate::bail_input!(
             "--velocity-window {} s is outside (0, 10]",
             args.velocity_window
         );

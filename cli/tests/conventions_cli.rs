@@ -67,13 +67,25 @@ fn bad_input_exits_2_and_a_failure_while_running_exits_1_each_printed_once() {
     let png = dir.join("t.png");
     let png = png.to_str().unwrap();
     // Input: a column the CSV does not have, a CSV that is not there, a
-    // scene that does not exist, a bad value the command checks.
+    // scene or image that does not exist, bad values the commands check.
     let missing_scene = dir.join("none.toml");
+    let missing_image = dir.join("none.png");
     for args in [
         vec!["plot", csv, "--x", "frames", "--y", "nope", "--out", png],
         vec!["plot", "no/such.csv", "--x", "a", "--y", "b", "--out", png],
         vec!["run", missing_scene.to_str().unwrap(), "--quiet"],
         vec!["acuity", "--scale", "2"],
+        vec![
+            "blur",
+            missing_image.to_str().unwrap(),
+            "--fov",
+            "150x100",
+            "--gaze",
+            "1,1",
+            "--out",
+            png,
+        ],
+        vec!["terrain", "--duration", "0", "--out", png],
     ] {
         let o = acuity(&args);
         let e = stderr(&o);
