@@ -265,8 +265,8 @@ pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<(
 /// Writes CSV `text` (a header row, then rows of unquoted comma-separated
 /// fields) to `csv_path`, and the same rows as JSON to `csv_path` with the
 /// extension `json`: an array with one object per row, keyed by the
-/// header's column names in column order. Fields that parse as finite
-/// numbers are numbers; empty and non-finite fields (`NaN`, `inf`) are
+/// header's column names in column order. Fields that parse as integers or
+/// finite numbers are numbers; empty and non-finite fields (`NaN`, `inf`) are
 /// null; others are strings.
 pub fn write_csv_with_json(text: &str, csv_path: &Path) -> anyhow::Result<()> {
     std::fs::write(csv_path, text).with_context(|| format!("writing {}", csv_path.display()))?;
@@ -294,6 +294,9 @@ fn csv_rows(text: &str) -> Vec<JsonRow<'_>> {
     let value = |field: &str| {
         if field.is_empty() {
             return serde_json::Value::Null;
+        }
+        if let Ok(n) = field.parse::<i64>() {
+            return n.into();
         }
         match field.parse::<f64>() {
             Ok(v) => serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into),
@@ -392,11 +395,11 @@ mod tests {
 
     #[test]
     fn json_rows_keep_columns_numbers_and_blanks() {
-        let rows = csv_rows("policy,mean_ms,jod\nfull,2.5,\nacuity,NaN,9.1\n\n");
+        let rows = csv_rows("policy,mean_ms,jod\nfull,2.5,\nacuity,NaN,9\n\n");
         let json = serde_json::to_string(&rows).unwrap();
         assert_eq!(
             json,
-            r#"[{"policy":"full","mean_ms":2.5,"jod":null},{"policy":"acuity","mean_ms":null,"jod":9.1}]"#
+            r#"[{"policy":"full","mean_ms":2.5,"jod":null},{"policy":"acuity","mean_ms":null,"jod":9}]"#
         );
         assert!(csv_rows("").is_empty());
     }
