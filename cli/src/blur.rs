@@ -90,10 +90,10 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
     // Both views are checked before either is filtered.
     still.validate(image.width, image.height)?;
     moving.validate(image.width, image.height)?;
-    let mut panels = vec![(image.clone(), "ORIGINAL".to_owned())];
+    let mut panels = vec![(image.clone(), "original".to_owned())];
     for (view, label) in [
-        (still, "ECCENTRICITY".to_owned()),
-        (moving, format!("ECCENTRICITY + {} DEG/S", args.velocity)),
+        (still, "eccentricity".to_owned()),
+        (moving, format!("eccentricity + {} deg/s", args.velocity)),
     ] {
         let start = Instant::now();
         let out = foveate(&image, &view)?;
