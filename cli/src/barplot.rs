@@ -1,13 +1,16 @@
-//! Minimal PNG grouped bar charts (one group per category, one coloured
-//! bar per series, value printed above each bar), drawn like
-//! [`crate::plot`]'s line plots with its built-in font.
+//! Grouped bar charts as PNG and SVG (one group per category, one coloured
+//! bar per series, the value printed above each bar), drawn with
+//! `plotters` like [`crate::plot`]'s line plots, with its font and colours.
 
 use std::path::Path;
 
 use anyhow::Context;
-use image::{Rgb, RgbImage};
+use image::RgbImage;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::plot::{draw_text, text_width};
+use crate::plot::{PALETTE, PLOT_SIZE_PX, register_font, tick_label};
 
 /// A grouped bar chart.
 #[derive(Debug, Clone, Default)]
@@ -18,89 +21,138 @@ pub struct BarPlot {
     pub y_label: String,
     /// One label per group, left to right.
     pub categories: Vec<String>,
-    /// `(name, one value per category)`; non-finite values draw no bar.
+    /// `(name, one value per category)`; non-finite or negative values
+    /// draw no bar.
     pub series: Vec<(String, Vec<f64>)>,
 }
 
-const COLOURS: [[u8; 3]; 4] = [[31, 119, 180], [255, 127, 14], [44, 160, 44], [214, 39, 40]];
-
 /// Renders `plot` into a `width` x `height` image (each at least 300).
-pub fn render_bar_plot(plot: &BarPlot, width: u32, height: u32) -> RgbImage {
+pub fn render_bar_plot(plot: &BarPlot, width: u32, height: u32) -> anyhow::Result<RgbImage> {
     let (width, height) = (width.max(300), height.max(300));
-    let mut img = RgbImage::from_pixel(width, height, Rgb([255, 255, 255]));
-    let dark = [40, 40, 40];
-    let (left, right, top, bottom) = (60i64, width as i64 - 20, 50i64, height as i64 - 60);
-    draw_text(&mut img, left, 12, &plot.title, 2, dark);
-    draw_text(&mut img, 4, top - 16, &plot.y_label, 1, dark);
+    register_font()?;
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        draw_bar_plot(&root, plot)?;
+        root.present()
+            .map_err(|e| anyhow::anyhow!("drawing the chart: {e}"))?;
+    }
+    RgbImage::from_raw(width, height, buf).context("chart buffer size")
+}
+
+/// Writes `plot` at [`PLOT_SIZE_PX`] as a PNG to `path` and as an SVG
+/// beside it (`path` with extension `svg`).
+pub fn save_bar_plot(plot: &BarPlot, path: &Path) -> anyhow::Result<()> {
+    let (w, h) = PLOT_SIZE_PX;
+    render_bar_plot(plot, w, h)?
+        .save(path)
+        .with_context(|| format!("writing {}", path.display()))?;
+    let svg = path.with_extension("svg");
+    let root = SVGBackend::new(&svg, (w, h)).into_drawing_area();
+    draw_bar_plot(&root, plot)?;
+    root.present()
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", svg.display()))
+}
+
+/// A bar's value as printed above it.
+fn value_label(v: f64) -> String {
+    if v >= 10.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.1}")
+    }
+}
+
+/// Draws `plot` on `root`: category `g` spans x in `[g, g + 1)`.
+fn draw_bar_plot<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    plot: &BarPlot,
+) -> anyhow::Result<()> {
+    let fail = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("drawing the chart: {e}");
+    root.fill(&WHITE).map_err(fail)?;
+    let bar = |v: &f64| v.is_finite() && *v >= 0.0;
     let max = plot
         .series
         .iter()
         .flat_map(|(_, v)| v.iter().copied())
-        .filter(|v| v.is_finite())
-        .fold(0.0f64, f64::max)
-        .max(1e-12);
-    let y_of = |v: f64| bottom - ((v / max) * (bottom - top) as f64).round() as i64;
-    for x in left..=right {
-        put(&mut img, x, bottom, dark);
-    }
-    for y in top..=bottom {
-        put(&mut img, left, y, dark);
-    }
-    let groups = plot.categories.len().max(1) as i64;
-    let group_w = (right - left) / groups;
-    let n = plot.series.len().max(1) as i64;
-    let bar_w = ((group_w - 16) / n).max(2);
-    for (g, label) in plot.categories.iter().enumerate() {
-        let gx = left + g as i64 * group_w + 8;
-        for (k, (_, values)) in plot.series.iter().enumerate() {
-            let Some(&v) = values.get(g) else { continue };
-            if !v.is_finite() || v < 0.0 {
-                continue;
-            }
-            let x0 = gx + k as i64 * bar_w;
-            let y0 = y_of(v);
-            let colour = COLOURS[k % COLOURS.len()];
-            for x in x0..x0 + bar_w - 2 {
-                for y in y0..bottom {
-                    put(&mut img, x, y, colour);
-                }
-            }
-            let text = if v >= 10.0 {
-                format!("{v:.0}")
+        .filter(bar)
+        .fold(0.0f64, f64::max);
+    let top = if max > 0.0 { max * 1.12 } else { 1.0 };
+    let groups = plot.categories.len().max(1);
+    let mut chart = ChartBuilder::on(root)
+        .caption(&plot.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(30)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..groups as f64, 0.0..top)
+        .map_err(fail)?;
+    let categories = &plot.categories;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_labels(groups * 2 + 1)
+        .x_label_formatter(&|x| {
+            // Labels at the groups' centres only.
+            let g = x - 0.5;
+            if (g - g.round()).abs() < 1e-6 && g >= 0.0 {
+                categories
+                    .get(g.round() as usize)
+                    .cloned()
+                    .unwrap_or_default()
             } else {
-                format!("{v:.1}")
-            };
-            let tx = x0 + (bar_w - 2 - text_width(&text, 1)) / 2;
-            draw_text(&mut img, tx, y0 - 10, &text, 1, dark);
-        }
-        let tx = gx + (group_w - 16 - text_width(label, 1)) / 2;
-        draw_text(&mut img, tx.max(gx), bottom + 8, label, 1, dark);
-    }
-    for (k, (name, _)) in plot.series.iter().enumerate() {
-        let y = height as i64 - 24;
-        let x = left + k as i64 * 220;
-        let colour = COLOURS[k % COLOURS.len()];
-        for dx in 0..12 {
-            for dy in 0..8 {
-                put(&mut img, x + dx, y + dy, colour);
+                String::new()
             }
-        }
-        draw_text(&mut img, x + 18, y, name, 1, dark);
+        })
+        .y_label_formatter(&|v| tick_label(*v))
+        .y_desc(plot.y_label.as_str())
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 15))
+        .bold_line_style(RGBColor(225, 225, 225))
+        .light_line_style(TRANSPARENT)
+        .draw()
+        .map_err(fail)?;
+    let n = plot.series.len().max(1) as f64;
+    let width = 0.8 / n;
+    for (k, (name, values)) in plot.series.iter().enumerate() {
+        let colour = PALETTE[k % PALETTE.len()];
+        let bars: Vec<(f64, f64)> = values
+            .iter()
+            .take(plot.categories.len())
+            .enumerate()
+            .filter(|(_, v)| bar(v))
+            .map(|(g, &v)| (g as f64 + 0.1 + k as f64 * width, v))
+            .collect();
+        chart
+            .draw_series(
+                bars.iter().map(|&(x, v)| {
+                    Rectangle::new([(x, 0.0), (x + width * 0.92, v)], colour.filled())
+                }),
+            )
+            .map_err(fail)?
+            .label(name.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled()));
+        let text = ("sans-serif", 12)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Bottom));
+        chart
+            .draw_series(
+                bars.iter()
+                    .map(|&(x, v)| Text::new(value_label(v), (x + width * 0.46, v), text.clone())),
+            )
+            .map_err(fail)?;
     }
-    img
-}
-
-/// Renders `plot` at 900 x 500 pixels and writes it as PNG.
-pub fn save_bar_plot(plot: &BarPlot, path: &Path) -> anyhow::Result<()> {
-    render_bar_plot(plot, 900, 500)
-        .save(path)
-        .with_context(|| format!("writing {}", path.display()))
-}
-
-fn put(img: &mut RgbImage, x: i64, y: i64, colour: [u8; 3]) {
-    if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
-        img.put_pixel(x as u32, y as u32, Rgb(colour));
+    if !plot.series.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(200, 200, 200))
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(fail)?;
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -110,11 +162,22 @@ mod tests {
     #[test]
     fn bars_draw_with_empty_and_bad_data() {
         let mut p = BarPlot::default();
-        assert_eq!(render_bar_plot(&p, 400, 300).dimensions(), (400, 300));
+        assert_eq!(
+            render_bar_plot(&p, 400, 300).unwrap().dimensions(),
+            (400, 300)
+        );
         p.categories = vec!["a".into(), "b".into()];
         p.series = vec![("x".into(), vec![1.0, f64::NAN]), ("y".into(), vec![-1.0])];
-        let img = render_bar_plot(&p, 400, 300);
-        // The one finite positive bar reaches the top of the plot area.
-        assert_eq!(img.get_pixel(70, 60).0, COLOURS[0]);
+        let img = render_bar_plot(&p, 400, 300).unwrap();
+        // The one finite positive bar is drawn in its series' colour.
+        let c = PALETTE[0];
+        let hits = img.pixels().filter(|px| px.0 == [c.0, c.1, c.2]).count();
+        assert!(hits > 500, "{hits} pixels in the bar's colour");
+        let dir = std::env::temp_dir().join(format!("acuity-barplot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let png = dir.join("bars.png");
+        save_bar_plot(&p, &png).unwrap();
+        assert!(png.with_extension("svg").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -64,15 +64,10 @@ fn parse_point(text: &str) -> Result<(f32, f32), String> {
     Ok((parse(a)?, parse(b)?))
 }
 
-/// Runs `acuity blur`; prints the error on one line on failure.
+/// Runs `acuity blur`; prints the error on one line on failure, exit code
+/// as [`crate::exit`] says.
 pub fn command(args: &BlurArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    crate::exit::report(run(args))
 }
 
 fn run(args: &BlurArgs) -> anyhow::Result<()> {
@@ -95,10 +90,10 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
     // Both views are checked before either is filtered.
     still.validate(image.width, image.height)?;
     moving.validate(image.width, image.height)?;
-    let mut panels = vec![(image.clone(), "ORIGINAL".to_owned())];
+    let mut panels = vec![(image.clone(), "original".to_owned())];
     for (view, label) in [
-        (still, "ECCENTRICITY".to_owned()),
-        (moving, format!("ECCENTRICITY + {} DEG/S", args.velocity)),
+        (still, "eccentricity".to_owned()),
+        (moving, format!("eccentricity + {} deg/s", args.velocity)),
     ] {
         let start = Instant::now();
         let out = foveate(&image, &view)?;
@@ -110,7 +105,7 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
         );
         panels.push((out, label));
     }
-    side_by_side(&panels)
+    side_by_side(&panels)?
         .save(&args.out)
         .with_context(|| format!("writing {}", args.out.display()))?;
     println!("wrote {}", args.out.display());
@@ -119,7 +114,8 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
 
 /// A PNG as linear-light RGB.
 fn load_linear(path: &Path) -> anyhow::Result<Image> {
-    let decoded = image::open(path).with_context(|| format!("reading {}", path.display()))?;
+    let decoded = image::open(path)
+        .map_err(|e| crate::exit::input_error(format!("reading {}: {e}", path.display())))?;
     let rgb = decoded.to_rgb32f();
     let (width, height) = (rgb.width() as usize, rgb.height() as usize);
     let data = rgb.into_raw().into_iter().map(srgb_to_linear).collect();
@@ -152,7 +148,7 @@ fn linear_to_srgb8(v: f32) -> u8 {
 }
 
 /// The panels left to right, each labelled in a strip above it.
-fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
+fn side_by_side(panels: &[(Image, String)]) -> anyhow::Result<RgbImage> {
     const STRIP: u32 = 40;
     const GAP: u32 = 8;
     let (w, h) = (panels[0].0.width as u32, panels[0].0.height as u32);
@@ -160,8 +156,7 @@ fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
     let mut out = RgbImage::from_pixel(n * w + (n - 1) * GAP, h + STRIP, Rgb([255, 255, 255]));
     for (i, (panel, label)) in panels.iter().enumerate() {
         let x0 = i as u32 * (w + GAP);
-        let scale = (w / 400).clamp(1, 4);
-        crate::plot::draw_text(&mut out, x0 as i64 + 4, 8, label, scale, [0, 0, 0]);
+        crate::plot::draw_label(&mut out, x0 as i32 + 4, 8, label, 24)?;
         let c = panel.channels;
         for y in 0..h {
             for x in 0..w {
@@ -175,7 +170,7 @@ fn side_by_side(panels: &[(Image, String)]) -> RgbImage {
             }
         }
     }
-    out
+    Ok(out)
 }
 
 /// A photo-like test image in linear light: a sky, fractal hills with a

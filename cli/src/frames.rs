@@ -107,7 +107,8 @@ pub struct ProfileArgs {
     /// must be made [default: the scene's `[profiles]`, else 2.3].
     #[arg(long, value_parser = crate::parse::parse_threshold)]
     pub profile_threshold: Option<f32>,
-    /// Print no progress lines on stderr.
+    /// Print no progress bar or progress lines on stderr (warnings and
+    /// errors still print).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -181,8 +182,9 @@ fn check_full_detail(scene: &Scene, lod0_triangles: &[u32]) -> anyhow::Result<()
         .iter()
         .zip(lod0_triangles)
         .map(|(o, &t)| (o.name.as_str(), u64::from(t), o.placement.count() as u64));
-    check_scene_triangles(counts)
-        .map_err(|(_, reason)| anyhow::anyhow!("{}: {reason}", scene.source_path.display()))
+    check_scene_triangles(counts).map_err(|(_, reason)| {
+        crate::exit::input_error(format!("{}: {reason}", scene.source_path.display()))
+    })
 }
 
 /// The camera and gaze of one frame.
@@ -237,8 +239,8 @@ impl World {
             .iter()
             .map(|o| object_source(&o.name, &o.source))
             .collect::<Vec<_>>();
-        check_distinct_cache_paths(&cache_dir, &sources).map_err(anyhow::Error::msg)?;
-        crate::limits::check_generated_meshes(&sources).map_err(anyhow::Error::msg)?;
+        check_distinct_cache_paths(&cache_dir, &sources).map_err(crate::exit::input_error)?;
+        crate::limits::check_generated_meshes(&sources).map_err(crate::exit::input_error)?;
         let started = Instant::now();
         // Every object's LODs first, so the scene's size at full detail is
         // checked before anything is analysed.

@@ -19,21 +19,25 @@
 //!   [`player`]: playing a world's frames under policies; [`report`]:
 //!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
-//!   scores of them; [`plot`]: PNG line plots; [`run`]: `acuity
+//!   scores of them; [`plot`]: line plots (PNG and SVG); [`run`]: `acuity
 //!   run`; [`experiment`]: `acuity experiment`; [`plot_csv`]: `acuity
 //!   plot` (a plot of any two columns of a CSV).
 //! - [`foveate`]: the acuity image filter (Reddy 2001, Fig. 5), pure;
 //!   [`blur`]: `acuity blur`; [`fractal`]: seeded fractal noise.
 //! - [`terrain`]: `acuity terrain` (Reddy 2001's Table 1 on
 //!   [`acuity::terrain`]); [`flight`]: its procedural valley and flight
-//!   path; [`terrain_render`]: drawing it; [`barplot`]: PNG bar charts.
+//!   path; [`terrain_render`]: drawing it; [`barplot`]: bar charts (PNG and SVG).
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
+//! - [`exit`]: the commands' exit codes (2: bad input, 1: failed while
+//!   running) and their one-line error printing; [`progress`]: their
+//!   progress bars.
 
 mod arrays;
 pub mod barplot;
 pub mod blur;
 pub mod dump;
+pub mod exit;
 pub mod experiment;
 pub mod flight;
 pub mod flip;
@@ -52,6 +56,7 @@ pub mod plot_csv;
 pub mod policy;
 pub mod preprocess;
 pub mod profiles;
+pub mod progress;
 pub mod report;
 pub mod run;
 pub mod scene;

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use acuity::acuity::threshold_cpd;
 use acuity::{Display, EccentricityModel, VelocityModel};
 use acuity_cli::thresholds::ThresholdReport;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -32,7 +32,8 @@ enum Command {
     Run(acuity_cli::run::RunArgs),
     /// The reference experiments of Reddy 1998 §5.
     Experiment(acuity_cli::experiment::ExperimentArgs),
-    /// A PNG line plot of two columns of a CSV, one line per group of rows.
+    /// A line plot (PNG and SVG) of two columns of a CSV, one line per
+    /// group of rows.
     Plot(acuity_cli::plot_csv::PlotArgs),
     /// Remove from an image the detail the acuity model predicts a viewer
     /// cannot see at a gaze point and velocity (Reddy 2001, Fig. 5).
@@ -112,18 +113,69 @@ fn parse_pair<T: std::str::FromStr>(text: &str) -> Result<(T, T), String> {
     Ok((parse(a)?, parse(b)?))
 }
 
+/// Adds a suggestion to an unknown subcommand one letter off a known one
+/// (`rn`, `rnu`: `run`), which clap's similarity measure misses in short
+/// names.
+fn suggest_subcommand(e: &mut clap::Error) {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if e.kind() != ErrorKind::InvalidSubcommand || e.get(ContextKind::SuggestedSubcommand).is_some()
+    {
+        return;
+    }
+    let Some(ContextValue::String(given)) = e.get(ContextKind::InvalidSubcommand) else {
+        return;
+    };
+    let near: Vec<String> = Cli::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_owned())
+        .filter(|name| edit_distance(given, name) == 1)
+        .collect();
+    if !near.is_empty() {
+        e.insert(
+            ContextKind::SuggestedSubcommand,
+            ContextValue::Strings(near),
+        );
+    }
+}
+
+/// Letters inserted, deleted, substituted or swapped (adjacent) to turn
+/// `a` into `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            d[i][j] = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d[i][j] = d[i][j].min(d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    d[a.len()][b.len()]
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
+        // Help and version go to stdout and exit 0.
         Err(e) if !e.use_stderr() => e.exit(),
-        Err(e) => {
-            // One clear line: clap's first, without its usage footer.
-            let text = e.to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("invalid arguments"));
-            return ExitCode::from(2);
+        Err(mut e) => {
+            // Clap's whole message: the error, its suggestions, the usage.
+            suggest_subcommand(&mut e);
+            let _ = e.print();
+            return ExitCode::from(acuity_cli::exit::INPUT);
         }
     };
-    let result = match cli.command {
+    let result: anyhow::Result<()> = match cli.command {
         Command::Run(args) => return acuity_cli::run::command(&args),
         Command::Experiment(args) => return acuity_cli::experiment::command(&args),
         Command::Plot(args) => return acuity_cli::plot_csv::command(&args),
@@ -134,7 +186,8 @@ fn main() -> ExitCode {
         }
         Command::Thresholds(display) => display
             .display()
-            .map(|d| print!("{}", ThresholdReport::new(d))),
+            .map(|d| print!("{}", ThresholdReport::new(d)))
+            .map_err(Into::into),
         Command::Acuity {
             velocity,
             eccentricity,
@@ -142,26 +195,51 @@ fn main() -> ExitCode {
             eccentricity_model,
             velocity_model,
             display,
-        } => display.display().and_then(|d| {
-            if !(scale > 0.0 && scale <= 1.0) {
-                return Err(acuity::Error::InvalidParameter {
-                    name: "scale",
-                    reason: format!("{scale} is not in (0, 1]"),
-                });
-            }
-            let h = velocity_model.acuity_cpd(velocity) * eccentricity_model.factor(eccentricity);
-            let xi = d.max_frequency_cpd();
-            println!("acuity H: {h:.3} c/deg");
-            println!("display limit xi: {xi:.3} c/deg");
-            println!("threshold T: {:.3} c/deg", threshold_cpd(h, xi, scale));
-            Ok(())
-        }),
+        } => display
+            .display()
+            .and_then(|d| {
+                if !(scale > 0.0 && scale <= 1.0) {
+                    return Err(acuity::Error::InvalidParameter {
+                        name: "scale",
+                        reason: format!("{scale} is not in (0, 1]"),
+                    });
+                }
+                let h =
+                    velocity_model.acuity_cpd(velocity) * eccentricity_model.factor(eccentricity);
+                let xi = d.max_frequency_cpd();
+                println!("acuity H: {h:.3} c/deg");
+                println!("display limit xi: {xi:.3} c/deg");
+                println!("threshold T: {:.3} c/deg", threshold_cpd(h, xi, scale));
+                Ok(())
+            })
+            .map_err(Into::into),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
+    acuity_cli::exit::report(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_letter_off_is_distance_one() {
+        assert_eq!(edit_distance("rn", "run"), 1);
+        assert_eq!(edit_distance("rnu", "run"), 1);
+        assert_eq!(edit_distance("runn", "run"), 1);
+        assert_eq!(edit_distance("blurr", "blur"), 1);
+        assert_eq!(edit_distance("plto", "plot"), 1);
+        assert_eq!(edit_distance("x", "run"), 3);
+        assert_eq!(edit_distance("run", "run"), 0);
+    }
+
+    #[test]
+    fn an_unknown_subcommand_near_a_known_one_gets_it_suggested() {
+        let mut e = Cli::try_parse_from(["acuity", "rn"]).err().unwrap();
+        suggest_subcommand(&mut e);
+        let text = e.to_string();
+        assert!(text.contains("'run'"), "{text}");
+        let mut e = Cli::try_parse_from(["acuity", "zzz"]).err().unwrap();
+        suggest_subcommand(&mut e);
+        assert!(!e.to_string().contains("similar"), "{e}");
     }
 }

@@ -13,8 +13,6 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::bail;
-
 use crate::dump::{FrameDump, REFERENCE_SEQUENCE, sequence_name};
 use crate::flip::flip_rgba;
 use crate::frames::{FrameView, World};
@@ -22,6 +20,7 @@ use crate::gaze::Gaze as GazePath;
 use crate::policy::{PolicyRunner, fit_cost_model};
 use crate::scene::{MAX_FRAMES, Policy, Scene};
 use acuity::CostModel;
+use indicatif::ProgressBar;
 
 /// How a scene is played.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,9 +51,9 @@ impl PlaySettings {
     pub fn from_scene(scene: &Scene, frames: Option<u32>) -> anyhow::Result<PlaySettings> {
         let run = &scene.run;
         let (frames, dt_s) = match frames {
-            Some(0) => bail!("--frames must be at least 1"),
+            Some(0) => crate::bail_input!("--frames must be at least 1"),
             Some(n) if u64::from(n) > MAX_FRAMES => {
-                bail!("--frames {n} is more than {MAX_FRAMES}")
+                crate::bail_input!("--frames {n} is more than {MAX_FRAMES}")
             }
             Some(n) => (n, run.frame_dt_s * f64::from(run.frames) / f64::from(n)),
             None => (run.frames, run.frame_dt_s),
@@ -140,6 +139,7 @@ pub struct Player<'w> {
     references: HashMap<u32, Vec<u8>>,
     cost_samples: Vec<(f64, u64)>,
     lods: Vec<Option<usize>>,
+    progress: ProgressBar,
 }
 
 impl<'w> Player<'w> {
@@ -159,11 +159,18 @@ impl<'w> Player<'w> {
             references: HashMap::new(),
             cost_samples: Vec::new(),
             lods: Vec::new(),
+            progress: ProgressBar::hidden(),
         };
         let view = p.view(0);
         p.full.choose(world, &view, 0.0, &mut p.lods)?;
         world.render(&view, &p.lods)?;
         Ok(p)
+    }
+
+    /// Advances `bar` by one for every frame played under one policy (its
+    /// length is the caller's: frames x policies, summed over players).
+    pub fn set_progress(&mut self, bar: &ProgressBar) {
+        self.progress = bar.clone();
     }
 
     /// The settings.
@@ -263,7 +270,9 @@ impl<'w> Player<'w> {
                 world.scene.display.resolution_px[1]
             ),
         )
-        .map_err(|e| anyhow::anyhow!("{e}: use fewer frames, policies or pixels"))?;
+        .map_err(|e| {
+            crate::exit::input_error(format!("{e}: use fewer frames, policies or pixels"))
+        })?;
         let cost = self.calibrate(calibration_bias)?;
         let mut runners = configs
             .iter()
@@ -373,6 +382,7 @@ impl<'w> Player<'w> {
                     }
                 }
                 run.frames.push(rec);
+                self.progress.inc(1);
             }
             if let (Some(d), Some(g)) = (dump.as_mut(), gaze_px)
                 && dump_reference

@@ -1,19 +1,26 @@
-//! Minimal PNG line plots: axes with numbered ticks, one coloured line per
-//! series, a legend. Drawn with the `image` crate and a built-in 5x7 pixel
-//! font, so no font files or system libraries are needed.
+//! Line plots as PNG and SVG, drawn with `plotters`: axes with ticks and
+//! labels (with units), one coloured line per series, a legend. Text uses
+//! DejaVu Sans embedded in the binary (`assets/`, licence beside it), so no
+//! system fonts are needed; SVGs leave text to the viewer's `sans-serif`.
+//!
+//! Also [`draw_label`] for text on images, and what [`crate::barplot`]
+//! shares: [`PALETTE`], [`PLOT_SIZE_PX`], [`register_font`].
 
 use std::path::Path;
+use std::sync::OnceLock;
 
-use anyhow::Context;
-use image::{Rgb, RgbImage};
+use anyhow::{Context, bail};
+use image::RgbImage;
+use plotters::coord::Shift;
+use plotters::prelude::*;
 
 /// One line of a plot.
 #[derive(Debug, Clone)]
 pub struct Series {
     /// Legend text.
     pub name: String,
-    /// Points `(x, y)` in data units, drawn in order; non-finite points
-    /// break the line.
+    /// Points `(x, y)` in data units, drawn in order; points that are not
+    /// finite or beyond [`PLOTTABLE`] break the line.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -36,402 +43,264 @@ pub struct LinePlot {
     pub y_from_zero: bool,
 }
 
-/// Distinct line colours, cycled.
-const PALETTE: [[u8; 3]; 10] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [214, 39, 40],
-    [148, 103, 189],
-    [140, 86, 75],
-    [227, 119, 194],
-    [127, 127, 127],
-    [188, 189, 34],
-    [23, 190, 207],
+/// Distinct line colours (matplotlib's `tab10`), cycled.
+pub const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
-const GLYPH_W: u32 = 5;
-const GLYPH_H: u32 = 7;
+/// The size of the plots [`save_line_plot`] and
+/// [`crate::barplot::save_bar_plot`] write, pixels.
+pub const PLOT_SIZE_PX: (u32, u32) = (900, 500);
 
-/// 5x7 glyphs, rows top first, `#` set. Lower case is drawn as upper case;
-/// unknown characters as a box.
-fn glyph(c: char) -> [&'static str; GLYPH_H as usize] {
-    match c.to_ascii_uppercase() {
-        '0' => [
-            ".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###.",
-        ],
-        '1' => [
-            "..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###.",
-        ],
-        '2' => [
-            ".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####",
-        ],
-        '3' => [
-            "####.", "....#", "....#", ".###.", "....#", "....#", "####.",
-        ],
-        '4' => [
-            "...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#.",
-        ],
-        '5' => [
-            "#####", "#....", "####.", "....#", "....#", "#...#", ".###.",
-        ],
-        '6' => [
-            ".###.", "#....", "#....", "####.", "#...#", "#...#", ".###.",
-        ],
-        '7' => [
-            "#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#...",
-        ],
-        '8' => [
-            ".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###.",
-        ],
-        '9' => [
-            ".###.", "#...#", "#...#", ".####", "....#", "....#", ".###.",
-        ],
-        'A' => [
-            ".###.", "#...#", "#...#", "#####", "#...#", "#...#", "#...#",
-        ],
-        'B' => [
-            "####.", "#...#", "#...#", "####.", "#...#", "#...#", "####.",
-        ],
-        'C' => [
-            ".###.", "#...#", "#....", "#....", "#....", "#...#", ".###.",
-        ],
-        'D' => [
-            "####.", "#...#", "#...#", "#...#", "#...#", "#...#", "####.",
-        ],
-        'E' => [
-            "#####", "#....", "#....", "####.", "#....", "#....", "#####",
-        ],
-        'F' => [
-            "#####", "#....", "#....", "####.", "#....", "#....", "#....",
-        ],
-        'G' => [
-            ".###.", "#...#", "#....", "#.###", "#...#", "#...#", ".####",
-        ],
-        'H' => [
-            "#...#", "#...#", "#...#", "#####", "#...#", "#...#", "#...#",
-        ],
-        'I' => [
-            ".###.", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.",
-        ],
-        'J' => [
-            "..###", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##..",
-        ],
-        'K' => [
-            "#...#", "#..#.", "#.#..", "##...", "#.#..", "#..#.", "#...#",
-        ],
-        'L' => [
-            "#....", "#....", "#....", "#....", "#....", "#....", "#####",
-        ],
-        'M' => [
-            "#...#", "##.##", "#.#.#", "#.#.#", "#...#", "#...#", "#...#",
-        ],
-        'N' => [
-            "#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#",
-        ],
-        'O' => [
-            ".###.", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.",
-        ],
-        'P' => [
-            "####.", "#...#", "#...#", "####.", "#....", "#....", "#....",
-        ],
-        'Q' => [
-            ".###.", "#...#", "#...#", "#...#", "#.#.#", "#..#.", ".##.#",
-        ],
-        'R' => [
-            "####.", "#...#", "#...#", "####.", "#.#..", "#..#.", "#...#",
-        ],
-        'S' => [
-            ".####", "#....", "#....", ".###.", "....#", "....#", "####.",
-        ],
-        'T' => [
-            "#####", "..#..", "..#..", "..#..", "..#..", "..#..", "..#..",
-        ],
-        'U' => [
-            "#...#", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.",
-        ],
-        'V' => [
-            "#...#", "#...#", "#...#", "#...#", "#...#", ".#.#.", "..#..",
-        ],
-        'W' => [
-            "#...#", "#...#", "#...#", "#.#.#", "#.#.#", "#.#.#", ".#.#.",
-        ],
-        'X' => [
-            "#...#", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "#...#",
-        ],
-        'Y' => [
-            "#...#", "#...#", ".#.#.", "..#..", "..#..", "..#..", "..#..",
-        ],
-        'Z' => [
-            "#####", "....#", "...#.", "..#..", ".#...", "#....", "#####",
-        ],
-        ' ' => [
-            ".....", ".....", ".....", ".....", ".....", ".....", ".....",
-        ],
-        '.' => [
-            ".....", ".....", ".....", ".....", ".....", ".##..", ".##..",
-        ],
-        ',' => [
-            ".....", ".....", ".....", ".....", ".##..", "..#..", ".#...",
-        ],
-        ':' => [
-            ".....", ".##..", ".##..", ".....", ".##..", ".##..", ".....",
-        ],
-        '-' => [
-            ".....", ".....", ".....", "#####", ".....", ".....", ".....",
-        ],
-        '+' => [
-            ".....", "..#..", "..#..", "#####", "..#..", "..#..", ".....",
-        ],
-        '=' => [
-            ".....", ".....", "#####", ".....", "#####", ".....", ".....",
-        ],
-        '_' => [
-            ".....", ".....", ".....", ".....", ".....", ".....", "#####",
-        ],
-        '/' => [
-            "....#", "....#", "...#.", "..#..", ".#...", "#....", "#....",
-        ],
-        '(' => [
-            "...#.", "..#..", ".#...", ".#...", ".#...", "..#..", "...#.",
-        ],
-        ')' => [
-            ".#...", "..#..", "...#.", "...#.", "...#.", "..#..", ".#...",
-        ],
-        '%' => [
-            "##...", "##..#", "...#.", "..#..", ".#...", "#..##", "...##",
-        ],
-        _ => [
-            "#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####",
-        ],
+/// DejaVu Sans (Bitstream Vera licence, `assets/DejaVuSans-LICENSE.txt`).
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+
+/// Registers the embedded font as plotters' `sans-serif` (once); an error
+/// if it cannot be read, so that no plot is drawn without text.
+pub fn register_font() -> anyhow::Result<()> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+    });
+    if !ok {
+        bail!("the embedded plot font could not be read");
     }
+    Ok(())
 }
 
-/// Draws `text` with its top-left corner at `(x, y)`, each font pixel a
-/// `scale` x `scale` block. Pixels outside the image are skipped.
-pub fn draw_text(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: u32, color: [u8; 3]) {
-    let mut cx = x;
-    for c in text.chars() {
-        for (row, bits) in glyph(c).iter().enumerate() {
-            for (col, b) in bits.bytes().enumerate() {
-                if b != b'#' {
-                    continue;
-                }
-                for dy in 0..scale {
-                    for dx in 0..scale {
-                        put(
-                            img,
-                            cx + (col as u32 * scale + dx) as i64,
-                            y + (row as u32 * scale + dy) as i64,
-                            color,
-                        );
-                    }
-                }
-            }
-        }
-        cx += ((GLYPH_W + 1) * scale) as i64;
+/// Renders `plot` into a `width` x `height` image (each at least 200).
+pub fn render_line_plot(plot: &LinePlot, width: u32, height: u32) -> anyhow::Result<RgbImage> {
+    let (width, height) = (width.max(200), height.max(200));
+    register_font()?;
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        draw_line_plot(&root, plot)?;
+        root.present()
+            .map_err(|e| anyhow::anyhow!("drawing the plot: {e}"))?;
     }
+    RgbImage::from_raw(width, height, buf).context("plot buffer size")
 }
 
-/// Width of `text` drawn at `scale`, pixels.
-pub fn text_width(text: &str, scale: u32) -> i64 {
-    (text.chars().count() as u32 * (GLYPH_W + 1) * scale) as i64
+/// Writes `plot` as an SVG to `path`, `width` x `height` pixels.
+pub fn write_line_plot_svg(
+    plot: &LinePlot,
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> anyhow::Result<()> {
+    register_font()?;
+    let root = SVGBackend::new(path, (width.max(200), height.max(200))).into_drawing_area();
+    draw_line_plot(&root, plot)?;
+    root.present()
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))
 }
 
-fn put(img: &mut RgbImage, x: i64, y: i64, color: [u8; 3]) {
-    if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
-        img.put_pixel(x as u32, y as u32, Rgb(color));
-    }
+/// Writes `plot` at [`PLOT_SIZE_PX`] as a PNG to `path` and as an SVG
+/// beside it (`path` with extension `svg`).
+pub fn save_line_plot(plot: &LinePlot, path: &Path) -> anyhow::Result<()> {
+    let (w, h) = PLOT_SIZE_PX;
+    render_line_plot(plot, w, h)?
+        .save(path)
+        .with_context(|| format!("writing {}", path.display()))?;
+    write_line_plot_svg(plot, w, h, &path.with_extension("svg"))
 }
 
-fn line(
-    img: &mut RgbImage,
-    (x0, y0): (i64, i64),
-    (x1, y1): (i64, i64),
-    color: [u8; 3],
-    thick: i64,
-) {
-    let (dx, dy) = ((x1 - x0).abs(), -(y1 - y0).abs());
-    let (sx, sy) = (if x0 < x1 { 1 } else { -1 }, if y0 < y1 { 1 } else { -1 });
-    let (mut x, mut y, mut err) = (x0, y0, dx + dy);
-    // Bounded: a line longer than this is off any sane image anyway.
-    for _ in 0..100_000 {
-        for ox in 0..thick {
-            for oy in 0..thick {
-                put(img, x + ox - thick / 2, y + oy - thick / 2, color);
-            }
-        }
-        if x == x1 && y == y1 {
-            break;
-        }
-        let e2 = 2 * err;
-        if e2 >= dy {
-            err += dy;
-            x += sx;
-        }
-        if e2 <= dx {
-            err += dx;
-            y += sy;
-        }
-    }
-}
+/// The largest magnitude drawn (and on a log x axis, the reciprocal of the
+/// smallest x). Beyond it `plotters`' tick search on a log axis can take
+/// practically forever, and no data acuity writes gets near it.
+pub const PLOTTABLE: f64 = 1e100;
 
-/// Round tick values covering `[lo, hi]`, about `n` of them.
-fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    let span = hi - lo;
-    if !(span.is_finite() && span > 0.0) {
-        return vec![lo];
+/// The drawable stretches of a series: split where a point is not finite,
+/// beyond [`PLOTTABLE`], or, on a log x axis, has x below its reciprocal.
+fn segments(points: &[(f64, f64)], log_x: bool) -> Vec<Vec<(f64, f64)>> {
+    let mut out = vec![Vec::new()];
+    for &(x, y) in points {
+        let drawable = x.abs() <= PLOTTABLE && y.abs() <= PLOTTABLE;
+        if drawable && (!log_x || x >= 1.0 / PLOTTABLE) {
+            out.last_mut().expect("never empty").push((x, y));
+        } else if !out.last().expect("never empty").is_empty() {
+            out.push(Vec::new());
+        }
     }
-    let raw = span / n.max(1) as f64;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    let mut t = (lo / step).ceil() * step;
-    let mut out = Vec::new();
-    while t <= hi + step * 1e-9 && out.len() < 50 {
-        out.push(if t.abs() < step * 1e-9 { 0.0 } else { t });
-        t += step;
-    }
+    out.retain(|s| !s.is_empty());
     out
 }
 
+/// `[lo, hi]` widened to a drawable span: finite, `lo < hi`.
+fn span(lo: f64, hi: f64, fallback: (f64, f64)) -> (f64, f64) {
+    if !(hi - lo).is_finite() {
+        return fallback;
+    }
+    if hi > lo {
+        return (lo, hi);
+    }
+    let pad = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
+    (lo - pad, hi + pad)
+}
+
+/// The axes' ranges: x over the data with 2% margins (a decade when there is
+/// none, on a log axis), y with 5% head room and from 0 when asked.
+fn ranges(plot: &LinePlot) -> ((f64, f64), (f64, f64)) {
+    let pts: Vec<(f64, f64)> = plot
+        .series
+        .iter()
+        .flat_map(|s| segments(&s.points, plot.log_x).into_iter().flatten())
+        .collect();
+    let fold = |f: fn(&(f64, f64)) -> f64| {
+        pts.iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let (x0, x1) = fold(|p| p.0);
+    let (mut y0, y1) = fold(|p| p.1);
+    if plot.y_from_zero && y0.is_finite() {
+        y0 = y0.min(0.0);
+    }
+    // 2% margins, so that markers at the ends are whole.
+    let x = if plot.log_x {
+        let (a, b) = span(x0.log10(), x1.log10(), (0.0, 1.0));
+        let m = 0.02 * (b - a);
+        (10f64.powf(a - m), 10f64.powf(b + m))
+    } else {
+        let (a, b) = span(x0, x1, (0.0, 1.0));
+        let m = 0.02 * (b - a);
+        (a - m, b + m)
+    };
+    let (y0, y1) = span(y0, y1, (0.0, 1.0));
+    let head = 0.05 * (y1 - y0);
+    (
+        x,
+        (
+            y0,
+            if (y1 + head).is_finite() {
+                y1 + head
+            } else {
+                y1
+            },
+        ),
+    )
+}
+
+/// Draws `plot` on `root`.
+fn draw_line_plot<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    plot: &LinePlot,
+) -> anyhow::Result<()> {
+    let fail = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("drawing the plot: {e}");
+    root.fill(&WHITE).map_err(fail)?;
+    let ((x0, x1), (y0, y1)) = ranges(plot);
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .caption(&plot.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(42)
+        .y_label_area_size(64);
+    // The same drawing on a linear or a logarithmic x axis.
+    macro_rules! draw {
+        ($x_range:expr) => {{
+            let mut chart = builder.build_cartesian_2d($x_range, y0..y1).map_err(fail)?;
+            chart
+                .configure_mesh()
+                .x_desc(plot.x_label.as_str())
+                .y_desc(plot.y_label.as_str())
+                .x_label_formatter(&|v| tick_label(*v))
+                .y_label_formatter(&|v| tick_label(*v))
+                .label_style(("sans-serif", 13))
+                .axis_desc_style(("sans-serif", 15))
+                .light_line_style(TRANSPARENT)
+                .bold_line_style(RGBColor(225, 225, 225))
+                .draw()
+                .map_err(fail)?;
+            for (k, s) in plot.series.iter().enumerate() {
+                let colour = PALETTE[k % PALETTE.len()];
+                let style = colour.stroke_width(2);
+                let mut parts = segments(&s.points, plot.log_x);
+                if parts.is_empty() {
+                    // Still named in the legend.
+                    parts.push(Vec::new());
+                }
+                for (i, part) in parts.iter().enumerate() {
+                    let drawn = chart
+                        .draw_series(LineSeries::new(part.iter().copied(), style))
+                        .map_err(fail)?;
+                    if i == 0 {
+                        drawn.label(s.name.as_str()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                        });
+                    }
+                    if plot.markers {
+                        chart
+                            .draw_series(part.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+                            .map_err(fail)?;
+                    }
+                }
+            }
+            if !plot.series.is_empty() {
+                chart
+                    .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperRight)
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(RGBColor(200, 200, 200))
+                    .label_font(("sans-serif", 13))
+                    .draw()
+                    .map_err(fail)?;
+            }
+        }};
+    }
+    if plot.log_x {
+        draw!((x0..x1).log_scale());
+    } else {
+        draw!(x0..x1);
+    }
+    Ok(())
+}
+
 /// A tick label: few digits, no trailing zeros.
-fn tick_label(v: f64) -> String {
+pub(crate) fn tick_label(v: f64) -> String {
     let a = v.abs();
     if a != 0.0 && !(1e-3..1e6).contains(&a) {
         return format!("{v:.0e}");
     }
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    s.to_owned()
-}
-
-/// Renders `plot` into a `width` x `height` image (each at least 200).
-pub fn render_line_plot(plot: &LinePlot, width: u32, height: u32) -> RgbImage {
-    let (width, height) = (width.max(200), height.max(200));
-    let mut img = RgbImage::from_pixel(width, height, Rgb([255, 255, 255]));
-    let fx = |x: f64| if plot.log_x { x.log10() } else { x };
-    let pts = || {
-        plot.series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|(x, y)| x.is_finite() && y.is_finite() && (!plot.log_x || *x > 0.0))
-    };
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for &(x, y) in pts() {
-        x0 = x0.min(fx(x));
-        x1 = x1.max(fx(x));
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if !x0.is_finite() {
-        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
-    }
-    if plot.y_from_zero {
-        y0 = y0.min(0.0);
-    }
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
-    }
-    if y1 <= y0 {
-        y1 = y0 + 1.0;
-    }
-    y1 += 0.05 * (y1 - y0);
-    let (left, right, top, bottom) = (70i64, width as i64 - 20, 42i64, height as i64 - 45);
-    let px = |x: f64| left + ((fx(x) - x0) / (x1 - x0) * (right - left) as f64).round() as i64;
-    let py = |y: f64| bottom - ((y - y0) / (y1 - y0) * (bottom - top) as f64).round() as i64;
-    let dark = [40, 40, 40];
-    let grid = [225, 225, 225];
-    // Grid and ticks.
-    let xt: Vec<f64> = if plot.log_x {
-        ticks(x0.floor(), x1.ceil(), 6)
-            .into_iter()
-            .filter(|e| *e >= x0 - 1e-9 && *e <= x1 + 1e-9 && e.fract() == 0.0)
-            .map(|e| 10f64.powf(e))
-            .collect()
+    if s == "-0" {
+        "0".to_owned()
     } else {
-        ticks(x0, x1, 6)
-    };
-    for &t in &xt {
-        let x = px(t);
-        line(&mut img, (x, top), (x, bottom), grid, 1);
-        let l = tick_label(t);
-        draw_text(&mut img, x - text_width(&l, 1) / 2, bottom + 6, &l, 1, dark);
+        s.to_owned()
     }
-    for t in ticks(y0, y1, 6) {
-        let y = py(t);
-        line(&mut img, (left, y), (right, y), grid, 1);
-        let l = tick_label(t);
-        draw_text(&mut img, left - 6 - text_width(&l, 1), y - 3, &l, 1, dark);
-    }
-    line(&mut img, (left, bottom), (right, bottom), dark, 1);
-    line(&mut img, (left, top), (left, bottom), dark, 1);
-    // Labels.
-    draw_text(&mut img, left, 8, &plot.title, 2, dark);
-    let xl = &plot.x_label;
-    draw_text(
-        &mut img,
-        (left + right) / 2 - text_width(xl, 1) / 2,
-        bottom + 22,
-        xl,
-        1,
-        dark,
-    );
-    draw_text(&mut img, 4, top - 12, &plot.y_label, 1, dark);
-    // Lines.
-    for (k, s) in plot.series.iter().enumerate() {
-        let color = PALETTE[k % PALETTE.len()];
-        let mut prev: Option<(i64, i64)> = None;
-        for &(x, y) in &s.points {
-            if !(x.is_finite() && y.is_finite()) || (plot.log_x && x <= 0.0) {
-                prev = None;
-                continue;
-            }
-            let p = (px(x), py(y));
-            if let Some(q) = prev {
-                line(&mut img, q, p, color, 2);
-            }
-            if plot.markers {
-                for dx in -2..=2 {
-                    for dy in -2..=2 {
-                        put(&mut img, p.0 + dx, p.1 + dy, color);
-                    }
-                }
-            }
-            prev = Some(p);
-        }
-    }
-    // Legend, top right.
-    let lw = plot
-        .series
-        .iter()
-        .map(|s| text_width(&s.name, 1))
-        .max()
-        .unwrap_or(0)
-        + 26;
-    for (k, s) in plot.series.iter().enumerate() {
-        let color = PALETTE[k % PALETTE.len()];
-        let y = top + 6 + 12 * k as i64;
-        let x = right - lw - 4;
-        line(&mut img, (x, y + 3), (x + 16, y + 3), color, 3);
-        draw_text(&mut img, x + 22, y, &s.name, 1, dark);
-    }
-    img
 }
 
-/// Renders `plot` at 900 x 500 pixels and writes it as PNG.
-pub fn save_line_plot(plot: &LinePlot, path: &Path) -> anyhow::Result<()> {
-    render_line_plot(plot, 900, 500)
-        .save(path)
-        .with_context(|| format!("writing {}", path.display()))
+/// Draws `text` in black on `img` with its top-left corner at `(x, y)`,
+/// `size_px` pixels high. Text outside the image is clipped.
+pub fn draw_label(
+    img: &mut RgbImage,
+    x: i32,
+    y: i32,
+    text: &str,
+    size_px: u32,
+) -> anyhow::Result<()> {
+    register_font()?;
+    let (w, h) = img.dimensions();
+    let root = BitMapBackend::with_buffer(img.as_mut(), (w, h)).into_drawing_area();
+    root.draw(&Text::new(
+        text,
+        (x, y),
+        ("sans-serif", size_px).into_font(),
+    ))
+    .and_then(|()| root.present())
+    .map_err(|e| anyhow::anyhow!("drawing a label: {e}"))
 }
 
 #[cfg(test)]
@@ -439,41 +308,88 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_glyph_is_five_by_seven() {
-        for c in (' '..='~').chain(['é']) {
-            for row in glyph(c) {
-                assert_eq!(row.len(), GLYPH_W as usize, "{c:?}");
-            }
-            assert_eq!(glyph(c).len(), GLYPH_H as usize);
-        }
+    fn ticks_read_well() {
+        assert_eq!(tick_label(2.5), "2.5");
+        assert_eq!(tick_label(100.0), "100");
+        assert_eq!(tick_label(-0.0001), "-1e-4");
+        assert_eq!(tick_label(-0.0), "0");
     }
 
     #[test]
-    fn ticks_are_round_and_cover_the_range() {
-        assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
-        assert_eq!(ticks(3.0, 3.0, 5), vec![3.0]);
-        assert_eq!(tick_label(2.5), "2.5");
-        assert_eq!(tick_label(100.0), "100");
+    fn non_finite_points_break_lines() {
+        let s = segments(
+            &[
+                (0.0, 1.0),
+                (1.0, f64::NAN),
+                (2.0, 3.0),
+                (3.0, 4.0),
+                (-1.0, 1.0),
+                (4.0, 1e200),
+            ],
+            true,
+        );
+        assert_eq!(s, vec![vec![(2.0, 3.0), (3.0, 4.0)]]);
+        assert_eq!(
+            segments(&[(0.0, 1.0), (f64::INFINITY, 0.0)], false).len(),
+            1
+        );
     }
 
     #[test]
     fn plots_draw_without_data_and_with_bad_data() {
+        let dir = std::env::temp_dir().join(format!("acuity-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
         let mut p = LinePlot {
             title: "empty".into(),
+            x_label: "time (s)".into(),
+            y_label: "frame time (ms)".into(),
             ..Default::default()
         };
-        let img = render_line_plot(&p, 300, 200);
+        let img = render_line_plot(&p, 300, 200).unwrap();
         assert_eq!(img.dimensions(), (300, 200));
         p.series.push(Series {
             name: "nan".into(),
-            points: vec![
-                (f64::NAN, 1.0),
-                (1.0, f64::INFINITY),
-                (2.0, 3.0),
-                (1e300, -1e300),
-            ],
+            points: vec![(f64::NAN, 1.0), (1.0, f64::INFINITY)],
+        });
+        p.series.push(Series {
+            name: "huge".into(),
+            points: vec![(2.0, 3.0), (1e300, -1e300), (0.0, 1.0)],
+        });
+        p.series.push(Series {
+            name: "wide".into(),
+            points: vec![(1e-90, 1e90), (1e90, -1e90)],
         });
         p.log_x = true;
-        render_line_plot(&p, 300, 200);
+        p.markers = true;
+        let png = dir.join("bad.png");
+        save_line_plot(&p, &png).unwrap();
+        let svg = std::fs::read_to_string(png.with_extension("svg")).unwrap();
+        assert!(svg.contains("<svg") && svg.contains("huge"), "{svg}");
+        let img = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), PLOT_SIZE_PX);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_line_is_drawn_in_its_colour() {
+        let p = LinePlot {
+            series: vec![Series {
+                name: "a".into(),
+                points: vec![(0.0, 0.0), (1.0, 1.0), (2.0, 0.5)],
+            }],
+            ..Default::default()
+        };
+        let img = render_line_plot(&p, 400, 300).unwrap();
+        let c = PALETTE[0];
+        let hits = img.pixels().filter(|px| px.0 == [c.0, c.1, c.2]).count();
+        assert!(hits > 100, "{hits} pixels in the line's colour");
+    }
+
+    #[test]
+    fn labels_draw_dark_pixels() {
+        let mut img = RgbImage::from_pixel(200, 40, image::Rgb([255, 255, 255]));
+        draw_label(&mut img, 4, 4, "reference", 20).unwrap();
+        let dark = img.pixels().filter(|px| px.0[0] < 100).count();
+        assert!(dark > 50, "{dark} dark pixels");
     }
 }

@@ -1,4 +1,4 @@
-//! `acuity plot`: a PNG line plot of two columns of a CSV file that acuity
+//! `acuity plot`: a line plot (PNG and SVG) of two columns of a CSV file that acuity
 //! (or a script around it) wrote, one line per group of rows, so that a
 //! sweep's table comes with its picture.
 //!
@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
+use crate::exit::input_error;
 use crate::plot::{LinePlot, Series, save_line_plot};
 
 /// Arguments of `acuity plot`.
@@ -38,7 +39,7 @@ pub struct PlotArgs {
     /// The plot's title (default: `Y against X`).
     #[arg(long)]
     pub title: Option<String>,
-    /// The PNG to write.
+    /// The PNG to write; the SVG goes beside it (extension `svg`).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -118,14 +119,14 @@ pub fn series_from_csv(text: &str, args: &PlotArgs) -> anyhow::Result<(Vec<Serie
     Ok((series, skipped))
 }
 
-/// Runs `acuity plot`: reads the CSV, writes the PNG.
+/// Runs `acuity plot`: reads the CSV, writes the PNG and the SVG.
 pub fn plot(args: &PlotArgs) -> anyhow::Result<()> {
     let text = std::fs::read_to_string(&args.csv)
-        .with_context(|| format!("reading {}", args.csv.display()))?;
-    let (series, skipped) =
-        series_from_csv(&text, args).with_context(|| format!("{}", args.csv.display()))?;
+        .map_err(|e| input_error(format!("reading {}: {e}", args.csv.display())))?;
+    let (series, skipped) = series_from_csv(&text, args)
+        .map_err(|e| input_error(format!("{}: {}", args.csv.display(), crate::error_line(&e))))?;
     if series.iter().all(|s| s.points.is_empty()) {
-        bail!("{}: no row has numbers in both columns", args.csv.display());
+        crate::bail_input!("{}: no row has numbers in both columns", args.csv.display());
     }
     let plot = LinePlot {
         title: args
@@ -145,19 +146,18 @@ pub fn plot(args: &PlotArgs) -> anyhow::Result<()> {
     } else {
         String::new()
     };
-    eprintln!("wrote {}{note}", args.out.display());
+    eprintln!(
+        "wrote {} and {}{note}",
+        args.out.display(),
+        args.out.with_extension("svg").display()
+    );
     Ok(())
 }
 
-/// `acuity plot` as a command: errors print as one line, exit code 2.
+/// `acuity plot` as a command: errors print as one line, exit code as
+/// [`crate::exit`] says.
 pub fn command(args: &PlotArgs) -> ExitCode {
-    match plot(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    crate::exit::report(plot(args))
 }
 
 #[cfg(test)]

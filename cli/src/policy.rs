@@ -93,9 +93,9 @@ impl PolicyRunner {
             .objects
             .iter()
             .map(|o| {
-                selector
-                    .add_profile(&o.profile)
-                    .map_err(|e| anyhow::anyhow!("object `{}`: profile: {e}", o.name))
+                selector.add_profile(&o.profile).map_err(|e| {
+                    anyhow::Error::new(e).context(format!("object `{}`: profile", o.name))
+                })
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let ids = world
@@ -110,11 +110,10 @@ impl PolicyRunner {
                         profile: profiles[i.object],
                     })
                     .map_err(|e| {
-                        anyhow::anyhow!(
-                            "object `{}` copy {}: {e}",
-                            world.objects[i.object].name,
-                            i.copy
-                        )
+                        anyhow::Error::new(e).context(format!(
+                            "object `{}` copy {}",
+                            world.objects[i.object].name, i.copy
+                        ))
                     })
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
@@ -127,7 +126,7 @@ impl PolicyRunner {
                     screen_size_bias,
                     BelowLast::KeepCoarsest,
                 )
-                .map_err(|e| anyhow::anyhow!("screen-size policy: {e}"))
+                .map_err(|e| anyhow::Error::new(e).context("screen-size policy"))
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;

@@ -146,18 +146,11 @@ pub enum PreprocessError {
 }
 
 /// Prints `result`'s error (if any) on stderr and gives the exit code: 0 on
-/// success, 2 for [`PreprocessError::Usage`], 1 otherwise.
+/// success, 2 for [`PreprocessError::Usage`] (and other input errors,
+/// [`crate::exit`]), 1 otherwise ([`PreprocessError::ObjectsFailed`]
+/// included, whatever made the objects fail).
 pub fn finish(result: anyhow::Result<()>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            match e.downcast_ref::<PreprocessError>() {
-                Some(PreprocessError::Usage(_)) => ExitCode::from(2),
-                _ => ExitCode::from(1),
-            }
-        }
-    }
+    crate::exit::report(result)
 }
 
 /// One object to preprocess.

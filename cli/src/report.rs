@@ -196,8 +196,13 @@ pub fn format_table(summaries: &[Summary]) -> String {
     t
 }
 
-/// Writes the per-frame CSV.
+/// Writes the per-frame CSV ([`frames_csv`]).
 pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
+    std::fs::write(path, frames_csv(runs)).with_context(|| format!("writing {}", path.display()))
+}
+
+/// The per-frame CSV: one row per policy and frame.
+pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
         "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95\n",
     );
@@ -224,10 +229,11 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
             );
         }
     }
-    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+    t
 }
 
-/// Writes the summary CSV.
+/// Writes the summary CSV and, beside it, the same rows as JSON
+/// ([`write_csv_with_json`]).
 pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
         "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
@@ -253,7 +259,61 @@ pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<(
             s.jod.map(|v| format!("{v:.4}")).unwrap_or_default()
         );
     }
-    std::fs::write(path, t).with_context(|| format!("writing {}", path.display()))
+    write_csv_with_json(&t, path)
+}
+
+/// Writes CSV `text` (a header row, then rows of unquoted comma-separated
+/// fields) to `csv_path`, and the same rows as JSON to `csv_path` with the
+/// extension `json`: an array with one object per row, keyed by the
+/// header's column names in column order. Fields that parse as integers or
+/// finite numbers are numbers; empty and non-finite fields (`NaN`, `inf`) are
+/// null; others are strings.
+pub fn write_csv_with_json(text: &str, csv_path: &Path) -> anyhow::Result<()> {
+    std::fs::write(csv_path, text).with_context(|| format!("writing {}", csv_path.display()))?;
+    let json_path = csv_path.with_extension("json");
+    let json = serde_json::to_string_pretty(&csv_rows(text)).context("encoding JSON")?;
+    std::fs::write(&json_path, json + "\n")
+        .with_context(|| format!("writing {}", json_path.display()))
+}
+
+/// One CSV row as a JSON object whose keys keep the column order.
+struct JsonRow<'a>(Vec<(&'a str, serde_json::Value)>);
+
+impl serde::Serialize for JsonRow<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+fn csv_rows(text: &str) -> Vec<JsonRow<'_>> {
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let header: Vec<&str> = lines
+        .next()
+        .map(|h| h.split(',').map(str::trim).collect())
+        .unwrap_or_default();
+    let value = |field: &str| {
+        if field.is_empty() {
+            return serde_json::Value::Null;
+        }
+        if let Ok(n) = field.parse::<i64>() {
+            return n.into();
+        }
+        match field.parse::<f64>() {
+            Ok(v) => serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into),
+            Err(_) => field.into(),
+        }
+    };
+    lines
+        .map(|line| {
+            JsonRow(
+                header
+                    .iter()
+                    .zip(line.split(',').map(str::trim))
+                    .map(|(&k, v)| (k, value(v)))
+                    .collect(),
+            )
+        })
+        .collect()
 }
 
 /// Writes `reference | test | FLIP map` side by side as one PNG.
@@ -304,13 +364,17 @@ pub fn write_plots(runs: &[PolicyRun], scene_name: &str, dir: &Path) -> anyhow::
         ..Default::default()
     };
     save_line_plot(
-        &plot("frame time", "ms", over_time(runs, |f| f.frame_ms)),
+        &plot(
+            "frame time",
+            "frame time (ms)",
+            over_time(runs, |f| f.frame_ms),
+        ),
         &dir.join("frame_time.png"),
     )?;
     save_line_plot(
         &plot(
             "triangles",
-            "triangles",
+            "triangles per frame",
             over_time(runs, |f| f.triangles as f64),
         ),
         &dir.join("triangles.png"),
@@ -318,9 +382,25 @@ pub fn write_plots(runs: &[PolicyRun], scene_name: &str, dir: &Path) -> anyhow::
     save_line_plot(
         &plot(
             "scale factor s",
-            "s",
+            "scale factor s",
             over_time(runs, |f| f64::from(f.scale)),
         ),
         &dir.join("scale.png"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_rows_keep_columns_numbers_and_blanks() {
+        let rows = csv_rows("policy,mean_ms,jod\nfull,2.5,\nacuity,NaN,9\n\n");
+        let json = serde_json::to_string(&rows).unwrap();
+        assert_eq!(
+            json,
+            r#"[{"policy":"full","mean_ms":2.5,"jod":null},{"policy":"acuity","mean_ms":null,"jod":9}]"#
+        );
+        assert!(csv_rows("").is_empty());
+    }
 }

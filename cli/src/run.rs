@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 
 use crate::dump::Metric;
 use crate::frames::{ProfileArgs, World};
@@ -94,7 +94,7 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
 /// Runs `acuity run`: plays, prints the table and writes every output.
 pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     if args.frames == Some(0) {
-        bail!("--frames must be at least 1");
+        return Err(crate::exit::input_error("--frames must be at least 1"));
     }
     let fvvdp = args.metric.contains(&Metric::Fvvdp);
     if fvvdp {
@@ -132,8 +132,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         );
     }
     let mut player = Player::new(&world, settings.clone())?;
+    let bar = crate::progress::bar(
+        u64::from(settings.frames) * settings.policies.len() as u64,
+        "frames",
+        args.profiles.quiet,
+    );
+    player.set_progress(&bar);
     let started = Instant::now();
-    let runs = player.play_all(&settings.policies, scene.run.screen_size_bias)?;
+    let runs = player.play_all(&settings.policies, scene.run.screen_size_bias);
+    bar.finish_and_clear();
+    let runs = runs?;
     if !args.profiles.quiet {
         eprintln!("played in {:.1} s", started.elapsed().as_secs_f64());
     }
@@ -162,7 +170,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
             ""
         };
         eprintln!(
-            "wrote {} (frames.csv, summary.csv, frame_time.png, triangles.png, scale.png{flip_images})",
+            "wrote {} (frames.csv, summary.csv, summary.json, frame_time, triangles and scale .png/.svg{flip_images})",
             out_dir.display()
         );
         if let Some(dir) = &settings.dump_dir {
@@ -177,13 +185,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
 }
 
 /// `acuity run` as a command: errors print as one line; exit code 2 for
-/// bad input or failures.
+/// bad input, 1 for failures while running ([`crate::exit`]).
 pub fn command(args: &RunArgs) -> ExitCode {
-    match run(args) {
-        Ok(_) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    crate::exit::report(run(args))
 }

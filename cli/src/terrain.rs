@@ -157,23 +157,18 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
-/// Runs `acuity terrain`; prints the error on one line on failure.
+/// Runs `acuity terrain`; prints the error on one line on failure, exit
+/// code as [`crate::exit`] says.
 pub fn command(args: &TerrainArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    crate::exit::report(run(args))
 }
 
 fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     if !(0.1..=600.0).contains(&args.duration) {
-        anyhow::bail!("--duration {} s is outside [0.1, 600]", args.duration);
+        crate::bail_input!("--duration {} s is outside [0.1, 600]", args.duration);
     }
     if !(args.velocity_window > 0.0 && args.velocity_window <= 10.0) {
-        anyhow::bail!(
+        crate::bail_input!(
             "--velocity-window {} s is outside (0, 10]",
             args.velocity_window
         );
@@ -420,19 +415,19 @@ fn write_outputs(
     let categories: Vec<String> = results.iter().map(|r| r.row.name.to_owned()).collect();
     save_bar_plot(
         &BarPlot {
-            title: "TRIANGLES PER FRAME, % OF FULL RESOLUTION".into(),
-            y_label: "%".into(),
+            title: "Triangles per frame".into(),
+            y_label: "triangles (% of full resolution)".into(),
             categories: categories.clone(),
             series: vec![
                 (
-                    "ACUITY".into(),
+                    "acuity".into(),
                     results
                         .iter()
                         .map(|r| 100.0 * r.mean_triangles() / full as f64)
                         .collect(),
                 ),
                 (
-                    "REDDY 2001".into(),
+                    "Reddy 2001".into(),
                     results
                         .iter()
                         .map(|r| 100.0 * r.row.paper_triangles as f64 / 1_116_720.0)
@@ -444,18 +439,18 @@ fn write_outputs(
     )?;
     save_bar_plot(
         &BarPlot {
-            title: "REFINEMENT TIME PER FRAME (ONE CORE)".into(),
-            y_label: "ms".into(),
+            title: "Refinement time per frame (one core)".into(),
+            y_label: "refinement time (ms)".into(),
             categories,
             series: vec![(
-                "ACUITY REFINE".into(),
+                "acuity refinement".into(),
                 results.iter().map(RowResult::mean_refine_ms).collect(),
             )],
         },
         &dir.join("refine_ms.png"),
     )?;
     println!(
-        "wrote {}: table1.csv, frames.csv, flight.csv, table1.png, refine_ms.png",
+        "wrote {}: table1.csv, frames.csv, flight.csv, table1 and refine_ms .png/.svg",
         dir.display()
     );
     Ok(())

@@ -5,8 +5,6 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, bail};
-
 use crate::dump::{Metric, check_fvvdp, score_fvvdp};
 use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
@@ -65,19 +63,19 @@ pub struct ErrorArgs {
 /// `error_jod.png`; returns the summaries (full detail first).
 pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if args.frames == 0 || args.flip_every == 0 {
-        bail!("--frames and --flip-every need at least 1");
+        crate::bail_input!("--frames and --flip-every need at least 1");
     }
     if let Some(b) = args.biases.iter().find(|b| !(b.is_finite() && **b > 0.0)) {
-        bail!("bias {b} is not > 0");
+        crate::bail_input!("bias {b} is not > 0");
     }
     if let Some(s) = args.scales.iter().find(|s| !(**s > 0.0 && **s <= 1.0)) {
-        bail!("scale factor {s} is not in (0, 1]");
+        crate::bail_input!("scale factor {s} is not in (0, 1]");
     }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
         let p = crate::scene::policy_by_name(name)?;
         if !p.is_fixed_scale_acuity() {
-            bail!("`{name}` is not an acuity policy with a fixed scale factor");
+            crate::bail_input!("`{name}` is not an acuity policy with a fixed scale factor");
         }
         if !acuity_policies.contains(&p) {
             acuity_policies.push(p);
@@ -93,7 +91,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     let mut world = args.common.load(&args.scene)?;
     if let Some(table) = &args.screen_size_thresholds {
         crate::screen_size::check_table(table)
-            .map_err(|e| anyhow::anyhow!("--screen-size-thresholds: {e}"))?;
+            .map_err(|e| crate::exit::input_error(format!("--screen-size-thresholds: {e}")))?;
         world.scene.run.screen_size_thresholds = table.clone();
     }
     world.scene.run.screen_size_foveated |= args.screen_size_foveated;
@@ -112,7 +110,15 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         configs.extend(args.scales.iter().map(|&s| (p, s)));
     }
     let mut player = Player::new(&world, settings.clone())?;
-    let runs = player.play_configs(&configs, 1.0)?;
+    let bar = crate::progress::bar(
+        u64::from(settings.frames) * configs.len() as u64,
+        "frames",
+        args.common.profiles.quiet,
+    );
+    player.set_progress(&bar);
+    let runs = player.play_configs(&configs, 1.0);
+    bar.finish_and_clear();
+    let runs = runs?;
     let mut sums = summarize(&runs, world.scene.run.budget_s());
     if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
         attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
@@ -196,7 +202,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         );
     }
     let path = out.join("error.csv");
-    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    crate::report::write_csv_with_json(&csv, &path)?;
     let curve = |p: Policy, x: &dyn Fn(&Summary) -> f64, y: &dyn Fn(&Summary) -> f64| {
         let mut pts: Vec<(f64, f64)> = sums
             .iter()
@@ -220,7 +226,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         plots.push((
             "error_time.png",
             "frame time vs FLIP",
-            "mean FLIP",
+            "mean FLIP (0 = identical, 1 = maximal)",
             "mean frame time (ms)",
             flip_x,
             &|s| s.mean_ms,
@@ -228,7 +234,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         plots.push((
             "error_triangles.png",
             "triangles vs FLIP",
-            "mean FLIP",
+            "mean FLIP (0 = identical, 1 = maximal)",
             "triangles per frame",
             flip_x,
             &|s| s.triangles,
@@ -238,7 +244,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         plots.push((
             "error_jod.png",
             "triangles vs FovVideoVDP (10 = identical)",
-            "JOD",
+            "FovVideoVDP quality (JOD)",
             "triangles per frame",
             jod_x,
             &|s| s.triangles,
@@ -262,10 +268,12 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         )?;
     }
     if !args.common.profiles.quiet {
-        let files: Vec<&str> = std::iter::once("error.csv")
-            .chain(plots.iter().map(|p| p.0))
-            .collect();
-        eprintln!("wrote {} ({})", out.display(), files.join(", "));
+        let plots: Vec<&str> = plots.iter().map(|p| p.0.trim_end_matches(".png")).collect();
+        eprintln!(
+            "wrote {} (error.csv, error.json, {} .png/.svg)",
+            out.display(),
+            plots.join(", ")
+        );
     }
     Ok(sums)
 }

@@ -3,12 +3,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::anyhow;
-
+use crate::exit::input_error;
 use crate::limits;
 use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
-use crate::report::{Summary, format_table, summarize, write_frames_csv};
+use crate::report::{Summary, format_table, frames_csv, summarize, write_csv_with_json};
 use crate::scene::Policy;
 
 use super::CommonArgs;
@@ -39,9 +38,10 @@ pub struct FramerateArgs {
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
 /// `framerate_time.png` and `framerate_scale.png`; returns the summaries.
 pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
-    limits::check_spike_load(args.spike_load).map_err(|e| anyhow!("--spike-load: {e}"))?;
+    limits::check_spike_load(args.spike_load)
+        .map_err(|e| input_error(format!("--spike-load: {e}")))?;
     if let Some(hz) = args.target_hz {
-        limits::check_target_hz(hz).map_err(|e| anyhow!("--target-hz: {e}"))?;
+        limits::check_target_hz(hz).map_err(|e| input_error(format!("--target-hz: {e}")))?;
     }
     let mut world = args.common.load(&args.scene)?;
     if let Some(hz) = args.target_hz {
@@ -64,8 +64,16 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         Policy::AcuityReactive,
         Policy::AcuityPredictive,
     ];
+    let bar = crate::progress::bar(
+        u64::from(settings.frames) * policies.len() as u64,
+        "frames",
+        args.common.profiles.quiet,
+    );
     let mut player = Player::new(&world, settings)?;
-    let runs = player.play_all(&policies, 1.0)?;
+    player.set_progress(&bar);
+    let runs = player.play_all(&policies, 1.0);
+    bar.finish_and_clear();
+    let runs = runs?;
     let sums = summarize(&runs, world.scene.run.budget_s());
     let out = args.common.out_dir("framerate")?;
     println!(
@@ -78,7 +86,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         0.75 * d
     );
     print!("{}", format_table(&sums));
-    write_frames_csv(&runs, &out.join("framerate.csv"))?;
+    write_csv_with_json(&frames_csv(&runs), &out.join("framerate.csv"))?;
     let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
@@ -97,7 +105,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         &LinePlot {
             title: "frame time under load spikes".into(),
             x_label: "simulated time (s)".into(),
-            y_label: "ms".into(),
+            y_label: "frame time (ms)".into(),
             series: time_series,
             y_from_zero: true,
             ..Default::default()
@@ -108,7 +116,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         &LinePlot {
             title: "scale factor s".into(),
             x_label: "simulated time (s)".into(),
-            y_label: "s".into(),
+            y_label: "scale factor s".into(),
             series: over_time(&|f| f64::from(f.scale)),
             y_from_zero: true,
             ..Default::default()
@@ -117,7 +125,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     )?;
     if !args.common.profiles.quiet {
         eprintln!(
-            "wrote {} (framerate.csv, framerate_time.png, framerate_scale.png)",
+            "wrote {} (framerate.csv, framerate.json, framerate_time and framerate_scale .png/.svg)",
             out.display()
         );
     }

@@ -88,18 +88,12 @@ impl CommonArgs {
     }
 }
 
-/// `acuity experiment` as a command: errors print as one line, exit code 2.
+/// `acuity experiment` as a command: errors print as one line, exit code
+/// as [`crate::exit`] says.
 pub fn command(args: &ExperimentArgs) -> ExitCode {
-    let result = match &args.which {
+    crate::exit::report(match &args.which {
         Experiment::Speedup(a) => speedup(a).map(|_| ()),
         Experiment::Error(a) => error(a).map(|_| ()),
         Experiment::Framerate(a) => framerate(a).map(|_| ()),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
-            ExitCode::from(2)
-        }
-    }
+    })
 }

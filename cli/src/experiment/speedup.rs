@@ -13,7 +13,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 
 use crate::frames::{ProfileArgs, World};
 use crate::parse::parse_resolution;
@@ -113,21 +113,21 @@ pub fn size_share(lod_all: f64, lod_ecc_vel: f64) -> f64 {
 /// `average_lod.png`; returns the trials.
 pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
     if args.trials == 0 || args.frames == 0 || args.counts.is_empty() {
-        bail!("--trials, --frames and --counts need at least 1");
+        crate::bail_input!("--trials, --frames and --counts need at least 1");
     }
     if let Some(&c) = args
         .counts
         .iter()
         .find(|&&c| c == 0 || c > crate::scene::MAX_COPIES)
     {
-        bail!(
+        crate::bail_input!(
             "object count {c} is outside 1..={}",
             crate::scene::MAX_COPIES
         );
     }
     let mut scene = Scene::load(&args.scene)?;
     if scene.objects.len() != 1 || !matches!(scene.objects[0].placement, PlacementSpec::Copies(_)) {
-        bail!(
+        crate::bail_input!(
             "{}: the speedup experiment needs exactly one object placed by `copies`",
             scene.source_path.display()
         );
@@ -146,6 +146,14 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
     settings.keep_images = false;
     settings.policies = vec![Policy::Full, Policy::AcuityAll, Policy::AcuityEccVel];
     let mut trials = Vec::new();
+    let bar = crate::progress::bar(
+        (args.counts.len() as u64)
+            * u64::from(args.trials)
+            * u64::from(args.frames)
+            * settings.policies.len() as u64,
+        "frames",
+        args.profiles.quiet,
+    );
     for &count in &args.counts {
         for trial in 0..args.trials {
             let seed = base_seed.wrapping_add(u64::from(trial));
@@ -161,6 +169,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
                 .as_ref()
                 .map(|d| d.join(format!("n{count:04}_trial{trial}")));
             let mut player = Player::new(&world, settings.clone())?;
+            player.set_progress(&bar);
             let runs = player.play_all(&settings.policies, world.scene.run.screen_size_bias)?;
             let sums = summarize(&runs, world.scene.run.budget_s());
             let t = SpeedupTrial {
@@ -174,17 +183,20 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
                 lod_ecc_vel: sums[2].mean_lod + 1.0,
             };
             if !args.profiles.quiet {
-                eprintln!(
-                    "N={count:<5} seed={seed:<6} speedup {:.2}x time, {:.2}x triangles; LOD all {:.2}, ecc+vel {:.2}",
-                    t.speedup_time(),
-                    t.speedup_triangles(),
-                    t.lod_all,
-                    t.lod_ecc_vel
-                );
+                bar.suspend(|| {
+                    eprintln!(
+                        "N={count:<5} seed={seed:<6} speedup {:.2}x time, {:.2}x triangles; LOD all {:.2}, ecc+vel {:.2}",
+                        t.speedup_time(),
+                        t.speedup_triangles(),
+                        t.lod_all,
+                        t.lod_ecc_vel
+                    )
+                });
             }
             trials.push(t);
         }
     }
+    bar.finish_and_clear();
     let out = args
         .out
         .clone()
@@ -211,7 +223,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         );
     }
     let csv_path = out.join("speedup.csv");
-    std::fs::write(&csv_path, csv).with_context(|| format!("writing {}", csv_path.display()))?;
+    crate::report::write_csv_with_json(&csv, &csv_path)?;
     // Means per count.
     let per_count = |f: &dyn Fn(&SpeedupTrial) -> f64| -> Vec<(f64, f64)> {
         args.counts
@@ -294,7 +306,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
     )?;
     if !args.profiles.quiet {
         eprintln!(
-            "wrote {} (speedup.csv, speedup.png, average_lod.png)",
+            "wrote {} (speedup.csv, speedup.json, speedup and average_lod .png/.svg)",
             out.display()
         );
     }

@@ -88,7 +88,6 @@
 use std::path::PathBuf;
 
 use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
-use anyhow::Context;
 use serde::Deserialize;
 
 use crate::gaze::{Gaze, GazeMode, GazeSpec};
@@ -464,9 +463,12 @@ pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
     Policy::ALL
         .into_iter()
         .find(|p| p.name() == name.trim())
-        .with_context(|| {
+        .ok_or_else(|| {
             let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
-            format!("unknown policy `{name}` (known: {})", names.join(", "))
+            crate::exit::input_error(format!(
+                "unknown policy `{name}` (known: {})",
+                names.join(", ")
+            ))
         })
 }
 
