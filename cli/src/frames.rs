@@ -12,10 +12,13 @@ use std::time::Instant;
 
 use acuity::display::projection_columns;
 use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
-use acuity_render::{Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions};
+use acuity_render::{
+    DitherMask, Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
+};
 use anyhow::Context;
 use glam::{DMat4, DQuat, DVec3, Mat4};
 
+use crate::crossfade::FadeOut;
 use crate::limits::check_scene_triangles;
 use crate::placement::Placement;
 use crate::profiles::object_source;
@@ -409,21 +412,52 @@ impl World {
     /// drawn). Waits for the GPU. Instances of one (mesh, LOD) are drawn
     /// with one instanced draw call.
     pub fn render(&self, view: &FrameView, lods: &[Option<usize>]) -> anyhow::Result<RenderOutput> {
+        self.render_faded(view, lods, &[])
+    }
+
+    /// As [`World::render`], with instance `i` mid cross-fade when
+    /// `fades[i]` is set: its LOD `lods[i]` and the one fading out are both
+    /// drawn, with complementary dither masks ([`DitherMask`]). `fades` is
+    /// empty (no fades) or has one entry per instance.
+    pub fn render_faded(
+        &self,
+        view: &FrameView,
+        lods: &[Option<usize>],
+        fades: &[Option<FadeOut>],
+    ) -> anyhow::Result<RenderOutput> {
         let mut draws: Vec<(MeshId, Mat4)> = Vec::with_capacity(lods.len());
+        let mut dither: Vec<DitherMask> = Vec::new();
         let eye_m = self.rendered_eye_m(view);
-        for (inst, lod) in self.instances.iter().zip(lods) {
+        for (i, (inst, lod)) in self.instances.iter().zip(lods).enumerate() {
             let Some(lod) = *lod else { continue };
             let o = &self.objects[inst.object];
-            let Some(&mesh) = o.meshes.get(lod) else {
-                anyhow::bail!("object `{}` has no LOD {lod}", o.name);
+            let mesh_of = |lod: usize| {
+                o.meshes
+                    .get(lod)
+                    .copied()
+                    .with_context(|| format!("object `{}` has no LOD {lod}", o.name))
             };
+            let mesh = mesh_of(lod)?;
             let p = &inst.placement;
             let m = DMat4::from_scale_rotation_translation(
                 DVec3::splat(p.scale),
                 p.rotation,
                 p.position_m - eye_m,
-            );
-            draws.push((mesh, m.as_mat4()));
+            )
+            .as_mat4();
+            match fades.get(i).copied().flatten() {
+                Some(fade) => {
+                    dither.resize(draws.len(), DitherMask::ALL);
+                    draws.push((mesh, m));
+                    dither.push(DitherMask::fading_in(fade.fraction));
+                    draws.push((mesh_of(fade.from_lod)?, m));
+                    dither.push(DitherMask::fading_out(fade.fraction));
+                }
+                None => draws.push((mesh, m)),
+            }
+        }
+        if !dither.is_empty() {
+            dither.resize(draws.len(), DitherMask::ALL);
         }
         let [width, height] = self.scene.display.resolution_px;
         let out = self.renderer.render(&RenderRequest {
@@ -431,6 +465,7 @@ impl World {
             height,
             view_proj: self.view_proj(view),
             instances: &draws,
+            dither: &dither,
             lighting: Lighting::default(),
             background_srgb: BACKGROUND_SRGB,
         })?;

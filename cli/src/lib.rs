@@ -16,6 +16,7 @@
 //! - [`screen_size`]: the Unity-LODGroup-style screen-relative-height policy.
 //! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
 //!   instances) and frame rendering; [`policy`]: the LOD policies;
+//!   [`crossfade`]: cross-fades of LODs chosen outside the runtime;
 //!   [`player`]: playing a world's frames under policies; [`report`]:
 //!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
@@ -36,6 +37,7 @@
 mod arrays;
 pub mod barplot;
 pub mod blur;
+pub mod crossfade;
 pub mod dump;
 pub mod exit;
 pub mod experiment;

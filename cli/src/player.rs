@@ -325,7 +325,7 @@ impl<'w> Player<'w> {
                 let start = Instant::now();
                 let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
                 let selected = start.elapsed();
-                let out = world.render(&view, &lods)?;
+                let out = world.render_faded(&view, &lods, runner.fades())?;
                 if let Some(&(_, _, ms)) = self
                     .settings
                     .load_spikes

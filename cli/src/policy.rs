@@ -3,10 +3,16 @@
 //! with a set of model components, and acuity under the reactive or the
 //! predictive fixed-frame-rate scheduler.
 //!
+//! With the scene's `cross_fade_s` set, each switch between two LODs fades
+//! over that time ([`PolicyRunner::fades`]): the acuity policies take the
+//! runtime selector's fades, the screen-size policy its own by the same
+//! rules ([`crate::crossfade`]).
+//!
 //! Every policy culls the same objects: those the runtime's frustum test
 //! (a [`Selector`] with culling on) puts outside the view. So triangle and
 //! frame-time differences come from LOD choices alone.
 
+use crate::crossfade::{CrossFades, FadeOut};
 use crate::frames::{FrameView, World};
 use crate::limits::MIN_SCALE;
 use crate::scene::Policy;
@@ -61,20 +67,26 @@ pub struct PolicyRunner {
     reactive: Option<ReactiveScheduler>,
     cost: Option<CostModel>,
     target_frame_s: f32,
+    /// The screen-size policy's fades (its LODs are not the selector's).
+    screen_fades: Option<CrossFades>,
+    fades: Vec<Option<FadeOut>>,
 }
 
 impl PolicyRunner {
     /// A fresh runner for `policy` over `world`'s instances. `cost` is the
     /// predictive scheduler's starting cost model (ignored by the other
-    /// policies). Uses the scene's `scale_factor`, `screen_size_bias` and
-    /// `target_hz`.
+    /// policies). Uses the scene's `scale_factor`, `screen_size_bias`,
+    /// `target_hz` and `cross_fade_s`.
     pub fn new(
         world: &World,
         policy: Policy,
         screen_size_bias: f64,
         cost: CostModel,
     ) -> anyhow::Result<PolicyRunner> {
+        let cross_fade_s = world.scene.run.cross_fade_s as f32;
+        let selector_fades = !matches!(policy, Policy::Full | Policy::ScreenSize);
         let settings = SelectorSettings {
+            fade_time_s: if selector_fades { cross_fade_s } else { 0.0 },
             components: components(policy).unwrap_or(Components::ALL),
             observer: world.scene.observer,
             eccentricity_model: world.scene.eccentricity_model,
@@ -151,6 +163,9 @@ impl PolicyRunner {
             reactive,
             cost: (policy == Policy::AcuityPredictive).then_some(cost),
             target_frame_s: 1.0 / target_hz,
+            screen_fades: (policy == Policy::ScreenSize && cross_fade_s > 0.0)
+                .then(|| CrossFades::new(cross_fade_s)),
+            fades: Vec::new(),
         })
     }
 
@@ -233,7 +248,27 @@ impl PolicyRunner {
             };
             lods.push(lod);
         }
+        self.fades.clear();
+        if let Some(c) = &mut self.screen_fades {
+            c.update(lods, dt_s);
+            self.fades.extend_from_slice(c.fades());
+        } else if !self.selector.fades().is_empty() {
+            let selector = &self.selector;
+            self.fades
+                .extend(self.ids.iter().zip(lods.iter()).map(|(id, lod)| {
+                    lod.and(selector.fade(*id)).map(|f| FadeOut {
+                        from_lod: f.from_lod,
+                        fraction: f.fraction,
+                    })
+                }));
+        }
         Ok(choice)
+    }
+
+    /// Each instance's running cross-fade after the last
+    /// [`choose`](Self::choose), in instance order; empty when none runs.
+    pub fn fades(&self) -> &[Option<FadeOut>] {
+        &self.fades
     }
 
     /// Feeds back the measured frame (seconds, triangles drawn) to the

@@ -55,6 +55,10 @@ pub struct RunArgs {
     /// DIR/display.json (resolution, fov_deg, fps, photometry, sequences).
     #[arg(long, value_name = "DIR")]
     pub dump_frames: Option<PathBuf>,
+    /// Cross-fade between LODs over this many seconds, drawn dithered
+    /// (default: the scene's `run.cross_fade_s`; 0 = switch at once).
+    #[arg(long, value_name = "SECONDS")]
+    pub cross_fade_s: Option<f64>,
     /// Profiles and progress.
     #[command(flatten)]
     pub profiles: ProfileArgs,
@@ -76,6 +80,10 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
     let mut scene = Scene::load(&args.scene)?;
     if let Some(r) = args.resolution {
         scene.display.resolution_px = r;
+    }
+    if let Some(s) = args.cross_fade_s {
+        crate::scene::check_cross_fade_s(s).map_err(|e| anyhow::anyhow!("--cross-fade-s: {e}"))?;
+        scene.run.cross_fade_s = s;
     }
     if let Some(p) = &args.policies {
         let mut ps = Vec::new();
@@ -121,8 +129,13 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         .clone()
         .or_else(|| fvvdp.then(|| out_dir.join("frames")));
     if !args.profiles.quiet {
+        let fade = if scene.run.cross_fade_s > 0.0 {
+            format!(", {} s dithered cross-fades", scene.run.cross_fade_s)
+        } else {
+            String::new()
+        };
         eprintln!(
-            "{name}: {} instances, {} frames x {} policies at {}x{}, renderer: {}",
+            "{name}: {} instances, {} frames x {} policies at {}x{}{fade}, renderer: {}",
             world.instances.len(),
             settings.frames,
             settings.policies.len(),

@@ -106,6 +106,7 @@ impl TerrainRenderer {
             height: self.size[1],
             view_proj: self.view_proj(camera),
             instances: &[(id, Mat4::IDENTITY)],
+            dither: &[],
             lighting: Lighting {
                 direction_to_light: [0.3, -0.4, 0.85],
                 ..Lighting::default()

@@ -103,6 +103,70 @@ fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
     assert!(flips.iter().all(|&f| f == 0.0), "full vs itself: {flips:?}");
 }
 
+/// Triangles per (policy, frame) of a run's frames.csv.
+fn triangles_by_frame(out: &Path) -> Vec<(String, u32, u64)> {
+    let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
+    csv.lines()
+        .skip(1)
+        .map(|line| {
+            let c: Vec<&str> = line.split(',').collect();
+            (
+                c[0].to_owned(),
+                c[1].parse().unwrap(),
+                c[5].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn cross_fades_draw_the_lod_going_as_well_and_leave_the_choices_alone() {
+    let dir = scratch("cross_fade");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, TINY).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--frames",
+            "16",
+            "--policies",
+            "screen_size,acuity_all",
+            "--cache-dir",
+            dir.to_str().unwrap(),
+            "--profile-resolution",
+            "64",
+            "--profile-viewpoints",
+            "0",
+        ];
+        args.extend_from_slice(extra);
+        let o = acuity(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        triangles_by_frame(&out)
+    };
+    let plain = run("off", &[]);
+    let faded = run("on", &["--cross-fade-s", "0.5"]);
+    assert_eq!(plain.len(), faded.len());
+    let mut more = 0;
+    for (p, f) in plain.iter().zip(&faded) {
+        assert_eq!((&p.0, p.1), (&f.0, f.1));
+        assert!(f.2 >= p.2, "{f:?} draws less than {p:?}");
+        more += usize::from(f.2 > p.2);
+    }
+    assert!(more > 0, "no frame drew a fading LOD: {faded:?}");
+    let o = acuity(&["run", scene.to_str().unwrap(), "--cross-fade-s", "11"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--cross-fade-s") && stderr.contains("0..=10"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
     let dir = scratch("single_lod");

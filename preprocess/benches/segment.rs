@@ -118,6 +118,7 @@ fn rendering(c: &mut Criterion) {
                 height: 512,
                 view_proj: cam.view_proj,
                 instances: &[],
+                dither: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })
@@ -133,6 +134,7 @@ fn rendering(c: &mut Criterion) {
                 height: 512,
                 view_proj: cam.view_proj,
                 instances: &[(id, Mat4::IDENTITY)],
+                dither: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })

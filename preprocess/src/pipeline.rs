@@ -566,6 +566,7 @@ fn render_and_measure(
                         height: res,
                         view_proj: cam.view_proj,
                         instances: &[(*id, Mat4::IDENTITY)],
+                        dither: &[],
                         lighting,
                         background_srgb: settings.background_srgb,
                     })?;

@@ -194,6 +194,7 @@ fn identical_lods_have_no_unique_features() {
                 height: 64,
                 view_proj: cam.view_proj,
                 instances: &[(id, glam::Mat4::IDENTITY)],
+                dither: &[],
                 lighting: Default::default(),
                 background_srgb: [0; 3],
             })

@@ -44,6 +44,7 @@ fn rows_are_unpadded_and_top_first_at_odd_widths() {
             height: h,
             view_proj: Mat4::IDENTITY,
             instances: &[(id, Mat4::IDENTITY)],
+            dither: &[],
             lighting: Lighting {
                 direction_to_light: [0.0, 0.0, 1.0],
                 diffuse: 1.0,
@@ -94,6 +95,7 @@ fn instances_are_drawn_with_one_call_per_mesh() {
             height: 64,
             view_proj: Mat4::IDENTITY,
             instances: &inst,
+            dither: &[],
             lighting: Lighting::default(),
             background_srgb: [0, 0, 0],
         })
@@ -109,6 +111,7 @@ fn instances_are_drawn_with_one_call_per_mesh() {
             height: 8,
             view_proj: Mat4::IDENTITY,
             instances: &inst,
+            dither: &[],
             lighting: Lighting::default(),
             background_srgb: [0; 3]
         })
@@ -131,6 +134,7 @@ fn the_same_frame_renders_to_the_same_bytes_on_two_devices() {
             height: 256,
             view_proj: cam.view_proj,
             instances: &[(id, Mat4::IDENTITY)],
+            dither: &[],
             lighting: Lighting::default(),
             background_srgb: [0, 0, 0],
         })

@@ -39,6 +39,14 @@
 //!   fraction (a low-contrast change), not by a whole aliased step. The
 //!   offline pass and the scene renderer draw alike. `msaa_samples = 1`
 //!   turns it off.
+//! - **Cross-fades are dithered**, not blended ([`DitherMask`]): an
+//!   instance may carry a screen-door mask that keeps the fragments whose
+//!   4x4 ordered-dither (Bayer) threshold at the pixel lies in a range, so
+//!   an object fading between two LODs draws both with complementary
+//!   masks and every pixel shows exactly one of them, through the usual
+//!   depth test and without sorting or blending. The mask is per pixel
+//!   (all MSAA samples of a pixel keep or drop together), and fractions
+//!   take effect in steps of 1/16.
 //! - **Deterministic**: the same requests give the same bytes (fixed
 //!   pipeline state and sample pattern, no blending; llvmpipe rasterises
 //!   deterministically).
@@ -105,6 +113,53 @@ impl Default for Lighting {
     }
 }
 
+/// A screen-door mask on an instance ([`RenderRequest::dither`]): a
+/// fragment is kept when the pixel's ordered-dither threshold `t` (one of
+/// `k / 16`, `k = 0..16`, from a 4x4 Bayer matrix over pixel positions) is
+/// in `[keep_from, keep_below)`. [`DitherMask::fading_in`] and
+/// [`DitherMask::fading_out`] at the same fraction split every pixel
+/// between two draws; both keep nothing or everything at 0 and 1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DitherMask {
+    /// Lowest threshold kept, in `[0, 1]`.
+    pub keep_from: f32,
+    /// Thresholds from this up are dropped, in `[0, 1]`.
+    pub keep_below: f32,
+}
+
+impl DitherMask {
+    /// Keeps every fragment.
+    pub const ALL: DitherMask = DitherMask {
+        keep_from: 0.0,
+        keep_below: 1.0,
+    };
+
+    /// The LOD fading in at `fraction` (in `[0, 1]`) of a cross-fade: keeps
+    /// the pixels whose threshold is below `fraction`.
+    pub fn fading_in(fraction: f32) -> DitherMask {
+        DitherMask {
+            keep_from: 0.0,
+            keep_below: fraction,
+        }
+    }
+
+    /// The LOD fading out at `fraction` of a cross-fade: keeps the pixels
+    /// whose threshold is at or above `fraction`, the complement of
+    /// [`DitherMask::fading_in`].
+    pub fn fading_out(fraction: f32) -> DitherMask {
+        DitherMask {
+            keep_from: fraction,
+            keep_below: 1.0,
+        }
+    }
+}
+
+impl Default for DitherMask {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
 /// One frame to render.
 #[derive(Debug, Clone)]
 pub struct RenderRequest<'a> {
@@ -117,6 +172,9 @@ pub struct RenderRequest<'a> {
     /// What to draw: a mesh and its model-to-world matrix. Instances of the
     /// same mesh are drawn with one instanced draw call.
     pub instances: &'a [(MeshId, Mat4)],
+    /// Each instance's dither mask, in the order of `instances`; empty:
+    /// none masked (else exactly one per instance).
+    pub dither: &'a [DitherMask],
     /// The light.
     pub lighting: Lighting,
     /// Background colour, sRGB8 (written to the image as is).
@@ -201,7 +259,7 @@ pub struct Renderer {
 }
 
 const VERTEX_STRIDE: u64 = 44; // position, normal, colour: 3 × f32x3; uv: f32x2
-const INSTANCE_STRIDE: u64 = 112; // model mat4 + normal mat3 as 3 × vec4
+const INSTANCE_STRIDE: u64 = 120; // model mat4 + normal mat3 as 3 × vec4 + dither range vec2
 const UNIFORM_SIZE: u64 = 96; // view_proj mat4 + light dir vec4 + light params vec4
 
 /// The shading of both renderers (see the module docs).
@@ -314,7 +372,7 @@ impl Renderer {
         ];
         let iattrs = wgpu::vertex_attr_array![
             3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
-            7 => Float32x4, 8 => Float32x4, 9 => Float32x4
+            7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 11 => Float32x2
         ];
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("acuity lit"),
@@ -531,6 +589,16 @@ impl Renderer {
                 message: format!("unknown mesh id {}", bad.0),
             });
         }
+        if !req.dither.is_empty() && req.dither.len() != req.instances.len() {
+            return Err(Error::Settings {
+                field: "dither",
+                message: format!(
+                    "{} masks for {} instances (give none or one each)",
+                    req.dither.len(),
+                    req.instances.len()
+                ),
+            });
+        }
         self.ensure_target(state, req.width, req.height);
 
         // Uniforms.
@@ -555,15 +623,16 @@ impl Renderer {
 
         // Instances grouped per mesh, in order of first appearance.
         let mut order: Vec<MeshId> = Vec::new();
-        let mut groups: std::collections::HashMap<MeshId, Vec<Mat4>> = Default::default();
-        for (id, m) in req.instances {
+        let mut groups: HashMap<MeshId, Vec<(Mat4, DitherMask)>> = Default::default();
+        for (k, (id, m)) in req.instances.iter().enumerate() {
+            let mask = req.dither.get(k).copied().unwrap_or(DitherMask::ALL);
             groups
                 .entry(*id)
                 .or_insert_with(|| {
                     order.push(*id);
                     Vec::new()
                 })
-                .push(*m);
+                .push((*m, mask));
         }
         let mut ibytes = Vec::with_capacity(req.instances.len() * INSTANCE_STRIDE as usize);
         let mut ranges = Vec::with_capacity(order.len());
@@ -571,7 +640,7 @@ impl Renderer {
         for id in &order {
             let mats = &groups[id];
             let start = (ibytes.len() as u64 / INSTANCE_STRIDE) as u32;
-            for m in mats {
+            for (m, mask) in mats {
                 let n = Mat3::from_mat4(*m).inverse().transpose();
                 let n = if n.is_finite() {
                     n
@@ -585,6 +654,9 @@ impl Renderer {
                     for f in [col.x, col.y, col.z, 0.0] {
                         ibytes.extend_from_slice(&f.to_le_bytes());
                     }
+                }
+                for f in [mask.keep_from, mask.keep_below] {
+                    ibytes.extend_from_slice(&f.to_le_bytes());
                 }
             }
             let index_count = state.meshes[id.0 as usize]

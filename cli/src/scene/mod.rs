@@ -51,6 +51,7 @@
 //! screen_size_bias = 1.0
 //! screen_size_thresholds = [0.6, 0.3, 0.1, 0.03]  # relative heights, one per LOD
 //! screen_size_foveated = false       # weight screen size by M(E) at the gaze
+//! cross_fade_s = 0.0                 # dithered cross-fade between LODs, s; 0 = switch at once
 //!
 //! [profiles]                         # optional; how the offline pass analyses
 //! resolution = 512                   # the size ladder's largest rung, pixels
@@ -458,6 +459,17 @@ impl Policy {
     }
 }
 
+/// Checks a cross-fade length, seconds ([`RunSpec::cross_fade_s`]).
+pub fn check_cross_fade_s(cross_fade_s: f64) -> Result<(), String> {
+    if (0.0..=MAX_CROSS_FADE_S).contains(&cross_fade_s) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{cross_fade_s} s is outside 0..={MAX_CROSS_FADE_S} s"
+        ))
+    }
+}
+
 /// A policy by its scene-file name.
 pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
     Policy::ALL
@@ -511,7 +523,15 @@ pub struct RunSpec {
     /// Acuity's global scale factor `s` in (0, 1] (default 1); the schedulers
     /// start from it.
     pub scale_factor: f64,
+    /// Length of a cross-fade between an instance's old and new LOD,
+    /// seconds, in `[0, MAX_CROSS_FADE_S]`; 0 (the default): LODs switch
+    /// at once. While it fades, both LODs are drawn with complementary
+    /// screen-door dither masks.
+    pub cross_fade_s: f64,
 }
+
+/// The longest cross-fade a scene or `--cross-fade-s` may ask for, s.
+pub const MAX_CROSS_FADE_S: f64 = 10.0;
 
 impl RunSpec {
     /// Simulated time of frame `k`, seconds: `k * frame_dt_s`.

@@ -287,6 +287,8 @@ impl Ctx<'_> {
                 format!("{scale_factor} must be in (0, 1]"),
             ));
         }
+        let cross_fade_s = r.cross_fade_s.unwrap_or(0.0);
+        super::check_cross_fade_s(cross_fade_s).map_err(|e| self.invalid("run.cross_fade_s", e))?;
         Ok(RunSpec {
             target_hz,
             policies,
@@ -297,6 +299,7 @@ impl Ctx<'_> {
             screen_size_thresholds,
             screen_size_foveated: r.screen_size_foveated.unwrap_or(false),
             scale_factor,
+            cross_fade_s,
         })
     }
 }

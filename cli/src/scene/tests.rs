@@ -27,6 +27,19 @@ fn minimal_scene_parses_with_defaults() {
     assert!((s.run.frame_dt_s - 1.0 / 60.0).abs() < 1e-15);
     assert_eq!(s.gaze, GazeSpec::default());
     assert_eq!(s.instance_count(), 1);
+    assert_eq!(s.run.cross_fade_s, 0.0);
+}
+
+#[test]
+fn cross_fade_time_is_read_and_checked() {
+    let with = |v: &str| format!("{MINIMAL}\n[run]\ncross_fade_s = {v}\n");
+    let s = Scene::parse(&with("0.25"), "min.toml").unwrap();
+    assert_eq!(s.run.cross_fade_s, 0.25);
+    for bad in ["-0.1", "10.5"] {
+        let e = Scene::parse(&with(bad), "min.toml").unwrap_err();
+        assert_eq!(e.field(), Some("run.cross_fade_s"), "{bad}: {e}");
+        assert!(e.to_string().contains("0..=10"), "{e}");
+    }
 }
 
 #[test]
