@@ -335,9 +335,9 @@ impl Terrain {
 /// region: adding a criterion only coarsens the mesh within it, as it
 /// does without culling. A straddling node drawn whole under a coarse
 /// criterion while a finer one dropped its children outside would break
-/// that. 16 cells: the forced splits along the view's edges cost a few
-/// hundred triangles on a 661 x 847 grid; the region kept beyond the edge
-/// is at most a node of 16 x 16 cells deep.
+/// that. The price: the forced splits along the view's edges, and the
+/// strip beyond the edge (at most 16 cells deep) drawn as the criteria
+/// say (measured in `docs/reddy2001.md`).
 pub const CULL_NODE_CELLS: u32 = 16;
 
 /// A node's bounding sphere against the field of view.
