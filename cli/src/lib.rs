@@ -27,7 +27,10 @@
 //!   [`blur`]: `acuity blur`; [`fractal`]: seeded fractal noise.
 //! - [`terrain`]: `acuity terrain` (Reddy 2001's Table 1 on
 //!   [`acuity::terrain`]); [`flight`]: its procedural valley and flight
-//!   path; [`terrain_render`]: drawing it; [`barplot`]: bar charts (PNG and SVG).
+//!   path; [`heightfield_file`]: its heightfield files (grey PNG, raw
+//!   `f32`); [`terrain_render`]: drawing it; [`panorama`]: an
+//!   equiangular image of a wide field from planar tiles; [`barplot`]: bar charts (PNG and
+//!   SVG).
 //! - [`preprocess`]: `acuity preprocess`; [`profiles`]: the profile cache;
 //!   [`thresholds`]: `acuity thresholds`.
 //! - [`exit`]: the commands' exit codes (2: bad input, 1: failed while
@@ -47,8 +50,10 @@ pub mod foveate;
 pub mod fractal;
 pub mod frames;
 pub mod gaze;
+pub mod heightfield_file;
 pub mod library;
 pub mod limits;
+pub mod panorama;
 pub mod parse;
 pub mod path;
 pub mod placement;

@@ -16,13 +16,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use acuity::terrain::{Heightfield, Refinement, Terrain, TerrainSettings, TerrainView};
+use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
 use acuity::{Components, EccentricityModel, VelocityModel};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::barplot::{BarPlot, save_bar_plot};
 use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
+use crate::heightfield_file::HeightfieldFormat;
 use crate::terrain_render::TerrainRenderer;
 
 /// Arguments of `acuity terrain`.
@@ -42,12 +43,19 @@ pub struct TerrainArgs {
     /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
     #[arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution)]
     pub size: [u32; 2],
-    /// A heightfield PNG (grey, 8 or 16 bits; colour is taken as its
-    /// luminance) instead of the procedural valley: one sample per pixel,
-    /// the top row north. Black is 0 m, white --height-range-m. The
-    /// flight takes the same line as over the valley (up the middle).
+    /// A heightfield file instead of the procedural valley, the first row
+    /// north, one sample per pixel or value: a PNG (grey, 8 or 16 bits;
+    /// colour is taken as its luminance; black is 0 m, white
+    /// --height-range-m) or, named `.f32` or `.raw`, a raw grid of
+    /// little-endian f32 heights in metres, row-major, with its size in
+    /// --grid. The flight takes the same line as over the valley (up the
+    /// middle).
     #[arg(long)]
     pub heightfield: Option<PathBuf>,
+    /// Size of a raw f32 --heightfield, COLUMNSxROWS (each 2 to 65537;
+    /// the file must hold COLUMNS x ROWS x 4 bytes).
+    #[arg(long, value_parser = crate::heightfield_file::parse_grid)]
+    pub grid: Option<[u32; 2]>,
     /// Metres between the samples of --heightfield.
     #[arg(long, default_value_t = 30.0)]
     pub spacing_m: f32,
@@ -176,7 +184,12 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let (valley, field) = match &args.heightfield {
         Some(path) => {
-            let field = load_heightfield(path, args.spacing_m, args.height_range_m)?;
+            let format = HeightfieldFormat {
+                spacing_m: args.spacing_m,
+                height_range_m: args.height_range_m,
+                grid: args.grid,
+            };
+            let field = crate::heightfield_file::load(path, &format)?;
             let valley = ValleySettings {
                 size: field.size(),
                 spacing_m: args.spacing_m,
@@ -185,6 +198,11 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
             (valley, field)
         }
         None => {
+            if let Some([w, h]) = args.grid {
+                anyhow::bail!(
+                    "--grid {w}x{h} is the size of a raw --heightfield, and none is given"
+                );
+            }
             let valley = ValleySettings {
                 size: args.size.map(|n| n as usize),
                 seed: args.seed,
@@ -238,17 +256,19 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     let mut renderer = if args.render_every > 0 {
         let r = TerrainRenderer::new(args.resolution, args.fov, &terrain)
             .context("drawing the terrain (--render-every 0 measures refinement alone)")?;
-        let [dh, dv] = r.drawn_fov_deg();
+        let [columns, rows] = r.panorama().grid();
         println!(
-            "drawing every {} frames on {} ({dh:.0}x{dv:.0} deg drawn)",
+            "drawing every {} frames on {} (the whole {}x{} deg, equiangular, from {columns}x{rows} planar tiles)",
             args.render_every,
-            r.adapter()
+            r.adapter(),
+            args.fov[0],
+            args.fov[1]
         );
         Some(r)
     } else {
         None
     };
-    let ppd = args.resolution[0] as f32 / renderer.as_ref().map_or(1.0, |r| r.drawn_fov_deg()[0]);
+    let ppd = args.resolution[0] as f32 / args.fov[0];
     let mut references: Vec<Vec<u8>> = Vec::new();
     let mut results = Vec::with_capacity(ROWS.len());
     let mut mesh = Refinement::new();
@@ -303,23 +323,6 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     print!("{}", format_table(&results, full));
     write_outputs(&args.out, &results, full, &poses)
-}
-
-/// A grey PNG as a heightfield (see [`TerrainArgs::heightfield`]).
-fn load_heightfield(path: &Path, spacing_m: f32, range_m: f32) -> anyhow::Result<Heightfield> {
-    if !(range_m.is_finite() && range_m > 0.0) {
-        anyhow::bail!("--height-range-m {range_m} is not a finite height > 0");
-    }
-    let grey = image::open(path)
-        .with_context(|| format!("reading {}", path.display()))?
-        .to_luma16();
-    let (w, h) = (grey.width() as usize, grey.height() as usize);
-    let mut heights = vec![0.0f32; w * h];
-    for (x, y, p) in grey.enumerate_pixels() {
-        let j = h - 1 - y as usize;
-        heights[j * w + x as usize] = p.0[0] as f32 / 65535.0 * range_m;
-    }
-    Heightfield::new(w, h, spacing_m, heights).with_context(|| format!("{}", path.display()))
 }
 
 /// The table as printed: ours beside the paper's.
@@ -461,26 +464,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_grey_png_loads_with_its_top_row_north() {
-        let dir = std::env::temp_dir().join(format!("acuity-terrain-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("h.png");
-        let mut img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(3, 2);
-        img.put_pixel(0, 0, image::Luma([65535]));
-        img.put_pixel(2, 1, image::Luma([32768]));
-        img.save(&path).unwrap();
-        let field = load_heightfield(&path, 10.0, 1000.0).unwrap();
-        assert_eq!(field.size(), [3, 2]);
-        assert_eq!(field.at(0, 1), 1000.0); // top-left: north-west
-        assert!((field.at(2, 0) - 500.0).abs() < 0.1);
-        assert_eq!(field.at(1, 0), 0.0);
-        assert!(load_heightfield(&path, 10.0, 0.0).is_err());
-        let e = load_heightfield(&dir.join("none.png"), 10.0, 1.0).unwrap_err();
-        assert!(format!("{e:#}").contains("none.png"), "{e:#}");
-        std::fs::remove_dir_all(&dir).ok();
-    }
-
-    #[test]
     fn a_short_flight_writes_the_table_csvs_and_plots() {
         let dir = std::env::temp_dir().join(format!("acuity-table1-{}", std::process::id()));
         let args = TerrainArgs {
@@ -488,6 +471,7 @@ mod tests {
             fov: [200.0, 135.0],
             resolution: [1280, 1024],
             heightfield: None,
+            grid: None,
             spacing_m: 30.0,
             height_range_m: 2000.0,
             size: [65, 129],
@@ -517,10 +501,37 @@ mod tests {
         }
         let bad = TerrainArgs {
             fov: [0.0, 135.0],
-            ..args
+            ..args.clone()
         };
         let e = run(&bad).unwrap_err();
         assert!(crate::error_line(&e).contains("fov_deg"), "{e:#}");
+        let stray_grid = TerrainArgs {
+            grid: Some([65, 129]),
+            ..args.clone()
+        };
+        let e = run(&stray_grid).unwrap_err();
+        assert!(crate::error_line(&e).contains("none is given"), "{e:#}");
+        // The same flight over a raw f32 grid of the same size.
+        let raw = dir.join("valley.f32");
+        let bytes: Vec<u8> = (0..65 * 129)
+            .flat_map(|n| (50.0 * ((n % 65) as f32 * 0.3).sin() + (n / 65) as f32).to_le_bytes())
+            .collect();
+        std::fs::write(&raw, bytes).unwrap();
+        let from_raw = TerrainArgs {
+            heightfield: Some(raw),
+            grid: Some([65, 129]),
+            ..args
+        };
+        run(&from_raw).unwrap();
+        let table = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
+        assert!(
+            table
+                .lines()
+                .nth(1)
+                .unwrap()
+                .starts_with("none,false,false,false,false,16384.0,100.0000,"),
+            "{table}"
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 

@@ -4,55 +4,60 @@
 //! drawn and read back, and the wall time of that is the frame's draw
 //! time (reading back waits for the GPU, so the time is synchronised).
 //!
-//! A planar image cannot show a field of view of 200 deg: the renderer
-//! draws the central part, at most 120 deg across (the rest of the
-//! triangles are still submitted and clipped by the GPU, so the draw time
-//! covers every triangle the refinement produced).
+//! A planar image cannot show a field of view of 200 deg, so each frame
+//! is drawn as planar tiles under 90 deg each (3 x 2 for 200 x 135 deg),
+//! every tile a render of the whole mesh by the camera turned to the
+//! tile, and resampled into one equiangular image of the whole field
+//! ([`crate::panorama`]): the image shows what the refinement selected
+//! for, in the coordinates it selected in. The draw time is the upload,
+//! every tile's draw and read-back (each read-back waits for the GPU);
+//! the resampling is timed apart (a renderer would do it on the GPU as
+//! one texture pass).
 
 use std::time::Instant;
 
 use acuity::Camera;
-use acuity::display::projection_columns;
 use acuity::terrain::{Refinement, Terrain};
 use acuity_render::{Lighting, Mesh, RenderOutput, RenderRequest, Renderer, RendererOptions};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 
-/// Widest horizontal field of view drawn, deg.
-pub const MAX_DRAWN_FOV_DEG: f32 = 120.0;
+use crate::panorama::{Panorama, Tile};
+
 const NEAR_PLANE_M: f32 = 1.0;
 
 /// The renderer and a reused mesh buffer.
 pub struct TerrainRenderer {
     renderer: Renderer,
     mesh: Mesh,
+    panorama: Panorama,
     size: [u32; 2],
-    fov_deg: [f32; 2],
     z_range: [f32; 2],
+    tile_images: Vec<Vec<u8>>,
 }
 
 /// One drawn frame.
 pub struct Drawn {
     /// Building the mesh from the triangles, ms (CPU).
     pub build_ms: f64,
-    /// Uploading, drawing and reading back, ms (GPU-synchronised).
+    /// Uploading, drawing every tile and reading them back, ms
+    /// (GPU-synchronised).
     pub draw_ms: f64,
-    /// The image.
+    /// Resampling the tiles into the image, ms (CPU).
+    pub resample_ms: f64,
+    /// The equiangular image of the whole field; its triangle and draw
+    /// call counts are summed over the tiles.
     pub image: RenderOutput,
 }
 
 impl TerrainRenderer {
-    /// A renderer for `size` pixel images of the central part of a
-    /// `fov_deg` field (see the module docs). Fails without a GPU adapter
-    /// (software adapters count).
+    /// A renderer for `size` pixel equiangular images of a `fov_deg`
+    /// field (see the module docs). Fails without a GPU adapter (software
+    /// adapters count).
     pub fn new(size: [u32; 2], fov_deg: [f32; 2], terrain: &Terrain) -> anyhow::Result<Self> {
+        let panorama = Panorama::new(size, fov_deg).context("tiling the drawn field")?;
         let renderer =
             Renderer::new(&RendererOptions::default()).context("creating the terrain renderer")?;
-        let h = fov_deg[0].min(MAX_DRAWN_FOV_DEG);
-        let v = 2.0
-            * ((0.5 * h).to_radians().tan() * size[1] as f32 / size[0] as f32)
-                .atan()
-                .to_degrees();
         let field = terrain.heightfield();
         let [w, d] = field.size();
         let (mut lo, mut hi) = (f32::MAX, f32::MIN);
@@ -73,9 +78,10 @@ impl TerrainRenderer {
                 uvs: Vec::new(),
                 texture: None,
             },
+            panorama,
             size,
-            fov_deg: [h, v],
             z_range: [lo, hi.max(lo + 1e-3)],
+            tile_images: Vec::new(),
         })
     }
 
@@ -84,9 +90,9 @@ impl TerrainRenderer {
         self.renderer.adapter_info()
     }
 
-    /// The drawn field of view, horizontal then vertical, deg.
-    pub fn drawn_fov_deg(&self) -> [f32; 2] {
-        self.fov_deg
+    /// The tiles each frame is drawn as.
+    pub fn panorama(&self) -> &Panorama {
+        &self.panorama
     }
 
     /// Draws one refinement seen by `camera`.
@@ -101,25 +107,49 @@ impl TerrainRenderer {
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
         let id = self.renderer.upload_mesh(&self.mesh)?;
-        let request = RenderRequest {
-            width: self.size[0],
-            height: self.size[1],
-            view_proj: self.view_proj(camera),
-            instances: &[(id, Mat4::IDENTITY)],
-            dither: &[],
-            lighting: Lighting {
-                direction_to_light: [0.3, -0.4, 0.85],
-                ..Lighting::default()
-            },
-            background_srgb: [150, 190, 235],
-        };
-        let image = self.renderer.render(&request);
+        let (mut triangles, mut draw_calls) = (0, 0);
+        self.tile_images.clear();
+        for tile in self.panorama.tiles() {
+            let request = RenderRequest {
+                width: tile.size_px[0],
+                height: tile.size_px[1],
+                view_proj: view_proj(camera, tile),
+                instances: &[(id, Mat4::IDENTITY)],
+                dither: &[],
+                lighting: Lighting {
+                    direction_to_light: [0.3, -0.4, 0.85],
+                    ..Lighting::default()
+                },
+                background_srgb: [150, 190, 235],
+            };
+            match self.renderer.render(&request) {
+                Ok(out) => {
+                    triangles += out.triangles;
+                    draw_calls += out.draw_calls;
+                    self.tile_images.push(out.rgba);
+                }
+                Err(e) => {
+                    self.renderer.free_mesh(id);
+                    return Err(e.into());
+                }
+            }
+        }
         self.renderer.free_mesh(id);
-        let image = image?;
+        let draw_ms = start.elapsed().as_secs_f64() * 1e3;
+        let start = Instant::now();
+        let mut rgba = Vec::new();
+        self.panorama.resample(&self.tile_images, &mut rgba)?;
         Ok(Drawn {
             build_ms,
-            draw_ms: start.elapsed().as_secs_f64() * 1e3,
-            image,
+            draw_ms,
+            resample_ms: start.elapsed().as_secs_f64() * 1e3,
+            image: RenderOutput {
+                width: self.size[0],
+                height: self.size[1],
+                rgba,
+                triangles,
+                draw_calls,
+            },
         })
     }
 
@@ -149,15 +179,68 @@ impl TerrainRenderer {
             }
         }
     }
+}
 
-    /// World to clip: the camera's view with a perspective of the drawn
-    /// field of view, infinite far plane, depth 0 to 1 (wgpu).
-    fn view_proj(&self, camera: &Camera) -> Mat4 {
-        let [h, v] = self.fov_deg.map(|a| 0.5 * f64::from(a));
-        let columns = projection_columns([-h, h, v, -v], f64::from(NEAR_PLANE_M));
-        let proj = Mat4::from_cols_array_2d(&columns.map(|c| c.map(|x| x as f32)));
-        let view = Mat4::from_rotation_translation(camera.orientation, camera.position.as_vec3())
-            .inverse();
-        proj * view
+/// World to clip for one tile: the camera turned to the tile, with the
+/// tile's perspective (infinite far plane, depth 0 to 1, wgpu).
+fn view_proj(camera: &Camera, tile: &Tile) -> Mat4 {
+    let orientation = camera.orientation * tile.rotation;
+    let view = Mat4::from_rotation_translation(orientation, camera.position.as_vec3()).inverse();
+    tile.projection(NEAR_PLANE_M) * view
+}
+
+#[cfg(test)]
+mod tests {
+    use acuity::terrain::{Heightfield, TerrainSettings, TerrainView};
+    use acuity::{Components, EccentricityModel, VelocityModel};
+    use glam::DVec3;
+
+    use super::*;
+
+    /// Over a flat plain 6.4 km across, seen level from 100 m above its
+    /// middle, every pixel of the 200 x 135 deg field more than 3 deg below
+    /// the horizon is ground (the plain's edge is 1.8 deg below it) and
+    /// every pixel above it sky: the tiles leave no gap at their seams.
+    #[test]
+    fn the_whole_field_is_drawn_and_the_tiles_join() {
+        let n = 65;
+        let field = Heightfield::new(n, n, 100.0, vec![0.0; n * n]).unwrap();
+        let terrain = Terrain::new(field);
+        let camera = Camera::look_to(DVec3::new(3200.0, 3200.0, 100.0), Vec3::Y, Vec3::Z).unwrap();
+        let settings = TerrainSettings {
+            components: Components::NONE,
+            viewport_cull: false,
+            fov_deg: [200.0, 135.0],
+            display_limit_cpd: 4.0,
+            scale: 1.0,
+            eccentricity_model: EccentricityModel::Reddy2001,
+            velocity_model: VelocityModel::Reddy2001,
+        };
+        let view = TerrainView {
+            camera,
+            previous: None,
+            dt_s: 0.1,
+        };
+        let mut refinement = Refinement::new();
+        terrain.refine(&view, &settings, &mut refinement).unwrap();
+        let (w, h) = (400, 270);
+        let mut renderer = TerrainRenderer::new([w, h], [200.0, 135.0], &terrain).unwrap();
+        let drawn = renderer.draw(&terrain, &refinement, &camera).unwrap();
+        assert_eq!(drawn.image.rgba.len(), (w * h * 4) as usize);
+        assert_eq!(drawn.image.draw_calls, 6);
+        let sky = |x: u32, y: u32| {
+            let p = &drawn.image.rgba[4 * (y * w + x) as usize..][..3];
+            p == [150, 190, 235]
+        };
+        for y in 0..h {
+            let elevation_deg = 67.5 - (y as f32 + 0.5) / h as f32 * 135.0;
+            for x in 0..w {
+                if elevation_deg < -3.0 {
+                    assert!(!sky(x, y), "sky at ({x}, {y}), {elevation_deg} deg");
+                } else if elevation_deg > 0.5 {
+                    assert!(sky(x, y), "ground at ({x}, {y}), {elevation_deg} deg");
+                }
+            }
+        }
     }
 }

@@ -24,7 +24,7 @@
 
 mod refine;
 
-pub use refine::{RefineStats, Refinement, TerrainSettings, TerrainView};
+pub use refine::{CULL_NODE_CELLS, RefineStats, Refinement, TerrainSettings, TerrainView};
 
 use crate::error::{Error, Result};
 

@@ -99,7 +99,9 @@ pub struct Refinement {
     /// leaf corner.
     stamps: Vec<u32>,
     stamp: u32,
-    stack: Vec<(u32, u32, u32)>,
+    /// Nodes to visit: level, column, row, and whether the node is kept
+    /// whole by viewport culling (no further test).
+    stack: Vec<(u32, u32, u32, bool)>,
     boundary: Vec<Vertex>,
     stats: RefineStats,
 }
@@ -180,25 +182,37 @@ impl Terrain {
         out.leaves.clear();
         out.stack.clear();
         out.stats = RefineStats::default();
-        out.stack.push((0, 0, 0));
+        out.stack.push((0, 0, 0, !settings.viewport_cull));
         let last = self.levels.len() as u32 - 1;
-        while let Some((k, i, j)) = out.stack.pop() {
+        while let Some((k, i, j, kept)) = out.stack.pop() {
             out.stats.nodes_visited += 1;
             let level = &self.levels[k as usize];
             let n = (j * level.nx + i) as usize;
             let rect = node_rect(level.size, i, j, cells);
             let node = self.node_geometry(rect, level.z_range[n], frame);
-            if settings.viewport_cull && !node.visible(frame.half_fov_deg) {
-                out.stats.nodes_culled += 1;
-                continue;
-            }
-            if k == last || !self.splits(&node, level.error[n], frame, settings) {
+            // Culling decides from geometry alone (see `CULL_NODE_CELLS`).
+            let (kept, forced) = if kept {
+                (true, false)
+            } else {
+                match node.in_view(frame.half_fov_deg) {
+                    InView::Outside => {
+                        out.stats.nodes_culled += 1;
+                        continue;
+                    }
+                    InView::Inside => (true, false),
+                    InView::Straddling => {
+                        let large = level.size > CULL_NODE_CELLS;
+                        (!large, large)
+                    }
+                }
+            };
+            if k == last || !(forced || self.splits(&node, level.error[n], frame, settings)) {
                 out.leaves.push(rect);
                 continue;
             }
             let finer = &self.levels[k as usize + 1];
             for (ci, cj) in children(i, j, finer.nx, finer.ny) {
-                out.stack.push((k + 1, ci, cj));
+                out.stack.push((k + 1, ci, cj, kept));
             }
         }
         out.stats.leaves = out.leaves.len();
@@ -313,6 +327,27 @@ impl Terrain {
     }
 }
 
+/// Side of the nodes at which viewport culling stops, cells. A node
+/// straddling the view's edge is split, whatever the criteria, until its
+/// side is at most this; from there (or from a node wholly inside) the
+/// subtree is kept whole, and only the criteria split it. So culling
+/// decides from geometry alone and every row of criteria draws the same
+/// region: adding a criterion only coarsens the mesh within it, as it
+/// does without culling. A straddling node drawn whole under a coarse
+/// criterion while a finer one dropped its children outside would break
+/// that. The price: the forced splits along the view's edges, and the
+/// strip beyond the edge (at most 16 cells deep) drawn as the criteria
+/// say (measured in `docs/reddy2001.md`).
+pub const CULL_NODE_CELLS: u32 = 16;
+
+/// A node's bounding sphere against the field of view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum InView {
+    Outside,
+    Straddling,
+    Inside,
+}
+
 /// A node's bounding box as the eye sees it.
 struct Node {
     centre: Vec3,
@@ -335,28 +370,37 @@ impl Node {
         }
     }
 
-    /// Whether the bounding sphere reaches into the azimuth-elevation box.
-    fn visible(&self, half_fov_deg: [f32; 2]) -> bool {
+    /// Where the bounding sphere lies against the azimuth-elevation box.
+    /// `Inside` only when every direction of the sphere is in the box;
+    /// `Outside` only when none is.
+    fn in_view(&self, half_fov_deg: [f32; 2]) -> InView {
         let d = self.offset.length();
         if d <= self.radius {
-            return true;
+            return InView::Straddling;
         }
         let rho = self.angular_radius_deg();
         let c = self.to_camera * self.offset;
-        let azimuth = c.x.atan2(-c.z).to_degrees();
-        let elevation = (c.y / d).clamp(-1.0, 1.0).asin().to_degrees();
-        if elevation.abs() - rho > half_fov_deg[1] {
-            return false;
+        let azimuth = c.x.atan2(-c.z).to_degrees().abs();
+        let elevation = (c.y / d).clamp(-1.0, 1.0).asin().to_degrees().abs();
+        if elevation - rho > half_fov_deg[1] {
+            return InView::Outside;
         }
-        if elevation.abs() + rho >= 90.0 {
-            return true;
+        if elevation + rho >= 90.0 {
+            // The cap holds a pole: it spans every azimuth.
+            return InView::Straddling;
         }
         // The azimuth half-span of a cap of radius rho at this elevation.
         let span = (rho.to_radians().sin() / elevation.to_radians().cos())
             .min(1.0)
             .asin()
             .to_degrees();
-        azimuth.abs() - span <= half_fov_deg[0]
+        if azimuth - span > half_fov_deg[0] {
+            InView::Outside
+        } else if elevation + rho <= half_fov_deg[1] && azimuth + span <= half_fov_deg[0] {
+            InView::Inside
+        } else {
+            InView::Straddling
+        }
     }
 
     /// Angle from the gaze (the view's centre) to the bounding sphere, deg.
