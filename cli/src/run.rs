@@ -82,7 +82,8 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
         scene.display.resolution_px = r;
     }
     if let Some(s) = args.cross_fade_s {
-        crate::scene::check_cross_fade_s(s).map_err(|e| anyhow::anyhow!("--cross-fade-s: {e}"))?;
+        crate::scene::check_cross_fade_s(s)
+            .map_err(|e| crate::exit::input_error(format!("--cross-fade-s: {e}")))?;
         scene.run.cross_fade_s = s;
     }
     if let Some(p) = &args.policies {
