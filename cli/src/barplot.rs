@@ -10,7 +10,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::plot::{PALETTE, PLOT_SIZE_PX, register_font, tick_label};
+use crate::plot::{PALETTE, PLOT_SIZE_PX, draw_legend, register_font, tick_label};
 
 /// A grouped bar chart.
 #[derive(Debug, Clone, Default)]
@@ -143,14 +143,7 @@ fn draw_bar_plot<DB: DrawingBackend>(
             .map_err(fail)?;
     }
     if !plot.series.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(200, 200, 200))
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(fail)?;
+        draw_legend(&mut chart).map_err(fail)?;
     }
     Ok(())
 }

@@ -248,14 +248,7 @@ fn draw_line_plot<DB: DrawingBackend>(
                 }
             }
             if !plot.series.is_empty() {
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperRight)
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(RGBColor(200, 200, 200))
-                    .label_font(("sans-serif", 13))
-                    .draw()
-                    .map_err(fail)?;
+                draw_legend(&mut chart).map_err(fail)?;
             }
         }};
     }
@@ -301,6 +294,20 @@ pub fn draw_label(
     ))
     .and_then(|()| root.present())
     .map_err(|e| anyhow::anyhow!("drawing a label: {e}"))
+}
+
+/// The legend of a chart's labelled series, in the upper right corner
+/// (the style every plot of the tool shares).
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(200, 200, 200))
+        .label_font(("sans-serif", 13))
+        .draw()
 }
 
 #[cfg(test)]

@@ -58,6 +58,7 @@
 //!   save the encode but quantise linear light to 8 bits. Where the time
 //!   goes on llvmpipe is measured in `docs/performance.md`.
 
+mod dither;
 pub mod error;
 pub mod files;
 mod gltf_data;
@@ -73,6 +74,7 @@ use std::sync::{Arc, Mutex, Weak};
 
 use glam::{Mat3, Mat4, Vec3};
 
+pub use crate::dither::DitherMask;
 pub use crate::error::Error;
 pub use crate::files::{LoadedChain, is_gltf, load_mesh_file};
 pub use crate::mesh::{LoadedMesh, Mesh};
@@ -110,53 +112,6 @@ impl Default for Lighting {
             diffuse: 0.75,
             ambient: 0.25,
         }
-    }
-}
-
-/// A screen-door mask on an instance ([`RenderRequest::dither`]): a
-/// fragment is kept when the pixel's ordered-dither threshold `t` (one of
-/// `k / 16`, `k = 0..16`, from a 4x4 Bayer matrix over pixel positions) is
-/// in `[keep_from, keep_below)`. [`DitherMask::fading_in`] and
-/// [`DitherMask::fading_out`] at the same fraction split every pixel
-/// between two draws; both keep nothing or everything at 0 and 1.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DitherMask {
-    /// Lowest threshold kept, in `[0, 1]`.
-    pub keep_from: f32,
-    /// Thresholds from this up are dropped, in `[0, 1]`.
-    pub keep_below: f32,
-}
-
-impl DitherMask {
-    /// Keeps every fragment.
-    pub const ALL: DitherMask = DitherMask {
-        keep_from: 0.0,
-        keep_below: 1.0,
-    };
-
-    /// The LOD fading in at `fraction` (in `[0, 1]`) of a cross-fade: keeps
-    /// the pixels whose threshold is below `fraction`.
-    pub fn fading_in(fraction: f32) -> DitherMask {
-        DitherMask {
-            keep_from: 0.0,
-            keep_below: fraction,
-        }
-    }
-
-    /// The LOD fading out at `fraction` of a cross-fade: keeps the pixels
-    /// whose threshold is at or above `fraction`, the complement of
-    /// [`DitherMask::fading_in`].
-    pub fn fading_out(fraction: f32) -> DitherMask {
-        DitherMask {
-            keep_from: fraction,
-            keep_below: 1.0,
-        }
-    }
-}
-
-impl Default for DitherMask {
-    fn default() -> Self {
-        Self::ALL
     }
 }
 
