@@ -25,15 +25,10 @@ pub struct HeightfieldFormat {
 /// Parses `--grid COLUMNSxROWS` (two whole numbers; [`load`] checks their
 /// range against the heightfield's limits).
 pub fn parse_grid(text: &str) -> Result<[u32; 2], String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form COLUMNSxROWS"))?;
-    let p = |s: &str| {
-        s.trim()
-            .parse::<u32>()
+    crate::parse::parse_pair(text, "COLUMNSxROWS", |s| {
+        s.parse::<u32>()
             .map_err(|_| format!("`{s}` in `{text}` is not a whole number of samples"))
-    };
-    Ok([p(a)?, p(b)?])
+    })
 }
 
 /// Whether `path` names a raw `f32` grid (by its extension: `f32` or

@@ -102,15 +102,11 @@ fn parse_non_negative(text: &str) -> Result<f32, String> {
 }
 
 fn parse_pair<T: std::str::FromStr>(text: &str) -> Result<(T, T), String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form AxB"))?;
-    let parse = |s: &str| {
-        s.trim()
-            .parse::<T>()
+    let [a, b] = acuity_cli::parse::parse_pair(text, "AxB", |s| {
+        s.parse::<T>()
             .map_err(|_| format!("`{s}` in `{text}` is not a number"))
-    };
-    Ok((parse(a)?, parse(b)?))
+    })?;
+    Ok((a, b))
 }
 
 /// Adds a suggestion to an unknown subcommand one letter off a known one

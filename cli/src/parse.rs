@@ -20,16 +20,26 @@ pub fn parse_statistic(text: &str) -> Result<acuity_preprocess::FrequencyStatist
     }
 }
 
-/// Parses a `WIDTHxHEIGHT` resolution in pixels (command-line flag).
-pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+/// Splits `AxB` text (either case of `x`) and parses each side with
+/// `parse_side`, which gets the side's trimmed text; `form` names the
+/// expected shape in the error (e.g. `WIDTHxHEIGHT`).
+pub fn parse_pair<T>(
+    text: &str,
+    form: &str,
+    parse_side: impl Fn(&str) -> Result<T, String>,
+) -> Result<[T; 2], String> {
     let (a, b) = text
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form WIDTHxHEIGHT"))?;
-    let p = |s: &str| match s.trim().parse::<u32>() {
+        .ok_or_else(|| format!("`{text}` is not of the form {form}"))?;
+    Ok([parse_side(a.trim())?, parse_side(b.trim())?])
+}
+
+/// Parses a `WIDTHxHEIGHT` resolution in pixels (command-line flag).
+pub fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    parse_pair(text, "WIDTHxHEIGHT", |s| match s.parse::<u32>() {
         Ok(v) if (1..=crate::limits::MAX_RESOLUTION_PX).contains(&v) => Ok(v),
         _ => Err(format!("`{s}` in `{text}` is not a resolution in pixels")),
-    };
-    Ok([p(a)?, p(b)?])
+    })
 }
 
 /// Parses a ΔE*uv threshold (command-line flag): finite and > 0.
@@ -43,14 +53,10 @@ pub fn parse_threshold(text: &str) -> Result<f32, String> {
 /// Parses a `HORIZxVERT` pair of angles in degrees (command-line flag):
 /// two finite numbers; the command checks their range.
 pub fn parse_angles(text: &str) -> Result<[f32; 2], String> {
-    let (a, b) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not of the form HORIZxVERT"))?;
-    let p = |s: &str| match s.trim().parse::<f32>() {
+    parse_pair(text, "HORIZxVERT", |s| match s.parse::<f32>() {
         Ok(v) if v.is_finite() => Ok(v),
         _ => Err(format!(
             "`{s}` in `{text}` is not a finite angle in degrees"
         )),
-    };
-    Ok([p(a)?, p(b)?])
+    })
 }
