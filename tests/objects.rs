@@ -636,3 +636,127 @@ fn biased_diagnostics_on_rayon_match_one_thread() {
         }
     }
 }
+
+/// A selector whose switches to coarser LODs wait up to `wait_s` for a
+/// saccade, with one object 3 m ahead, settled.
+fn deferring(wait_s: f32) -> (Selector, ObjectId) {
+    let settings = SelectorSettings {
+        defer_coarsening_s: wait_s,
+        track_changes: true,
+        components: Components {
+            velocity: false,
+            ..Components::ALL
+        },
+        ..Default::default()
+    };
+    let (mut sel, profiles) = selector(settings);
+    let id = ahead(&mut sel, profiles[0], 3.0);
+    settle(&mut sel, id, 3.0);
+    (sel, id)
+}
+
+/// As [`step`], with the gaze at `gaze_x_deg` right of the centre (eye
+/// tracker) or with `tracker`.
+fn look(sel: &mut Selector, id: ObjectId, distance: f64, gaze_x_deg: f32, tracker: Tracker) {
+    sel.set_pose(id, DVec3::new(0.0, 0.0, -distance), Quat::IDENTITY)
+        .unwrap();
+    let frame = FrameInput {
+        gaze: Gaze::at_screen_angles(gaze_x_deg, 0.0, tracker),
+        dt_s: 0.125,
+        ..frame(0)
+    };
+    sel.select(&frame).unwrap();
+}
+
+#[test]
+fn a_switch_to_a_coarser_lod_waits_for_a_saccade_or_the_longest_wait() {
+    let eye = Tracker::eye_default();
+    let (mut sel, id) = deferring(0.5);
+    let near = sel.selection(id).lod().unwrap();
+    let (mut at_once, other) = deferring(0.0);
+    look(&mut at_once, other, 200.0, 0.0, eye);
+    let far = at_once.selection(other).lod().unwrap();
+    assert!(far > near);
+    // Fixating: held for 0.125, 0.25 and 0.375 s, switched at 0.5 s.
+    for k in 1..=4 {
+        look(&mut sel, id, 200.0, 0.0, eye);
+        let (lod, listed) = (
+            sel.selection(id).lod().unwrap(),
+            sel.changed().contains(&id),
+        );
+        if k < 4 {
+            assert_eq!((lod, listed), (near, false), "frame {k}");
+        } else {
+            assert_eq!((lod, listed), (far, true), "frame {k}");
+        }
+    }
+    // Back near: a finer LOD comes at once.
+    look(&mut sel, id, 3.0, 0.0, eye);
+    assert_eq!(sel.selection(id).lod(), Some(near));
+    // Far again: held, then switched in the frame the gaze jumps 20 deg
+    // in 1/90 s (1800 deg/s: a saccade).
+    look(&mut sel, id, 200.0, 0.0, eye);
+    assert_eq!(sel.selection(id).lod(), Some(near));
+    sel.set_pose(id, DVec3::new(0.0, 0.0, -200.0), Quat::IDENTITY)
+        .unwrap();
+    sel.select(&FrameInput {
+        gaze: Gaze::at_screen_angles(20.0, 0.0, eye),
+        dt_s: 1.0 / 90.0,
+        ..frame(0)
+    })
+    .unwrap();
+    assert!(
+        sel.selection(id).lod() > Some(near),
+        "switched in the saccade"
+    );
+    assert!(sel.changed().contains(&id));
+}
+
+#[test]
+fn a_wait_ends_without_a_switch_when_the_coarser_lod_is_no_longer_chosen() {
+    let eye = Tracker::eye_default();
+    let (mut sel, id) = deferring(0.5);
+    let near = sel.selection(id).lod().unwrap();
+    for _ in 0..3 {
+        look(&mut sel, id, 200.0, 0.0, eye);
+    }
+    look(&mut sel, id, 3.0, 0.0, eye);
+    assert!(!sel.changed().contains(&id), "nothing switched");
+    // The wait starts over: three more frames far are held again.
+    for _ in 0..3 {
+        look(&mut sel, id, 200.0, 0.0, eye);
+        assert_eq!(sel.selection(id).lod(), Some(near));
+    }
+}
+
+#[test]
+fn without_an_eye_tracker_or_a_wait_time_switches_happen_at_once() {
+    for (wait_s, tracker) in [
+        (0.5, Tracker::None),
+        (0.5, Tracker::Head),
+        (0.0, Tracker::eye_default()),
+        (f32::NAN, Tracker::eye_default()),
+    ] {
+        let (mut sel, id) = deferring(wait_s);
+        let near = sel.selection(id).lod().unwrap();
+        look(&mut sel, id, 200.0, 0.0, tracker);
+        assert!(
+            sel.selection(id).lod().unwrap() > near,
+            "{wait_s} {tracker:?}"
+        );
+    }
+}
+
+#[test]
+fn a_waiting_switch_never_leaves_the_lod_range() {
+    let eye = Tracker::eye_default();
+    let (mut sel, id) = deferring(0.5);
+    let near = sel.selection(id).lod().unwrap();
+    sel.set_lod_range(id, near + 1..=usize::MAX).unwrap();
+    look(&mut sel, id, 3.0, 0.0, eye);
+    assert_eq!(
+        sel.selection(id).lod(),
+        Some(near + 1),
+        "out of range at once"
+    );
+}

@@ -109,6 +109,10 @@ pub struct GazeSpec {
     /// default none: never; see
     /// [`acuity::SelectorSettings::saccade_threshold_deg_per_s`]).
     pub saccade_threshold_deg_per_s: Option<f64>,
+    /// With the eye tracker: the longest a switch to a coarser LOD waits
+    /// for a saccade, s (`defer_coarsening_s`; default 0: switches at once;
+    /// see [`acuity::SelectorSettings::defer_coarsening_s`]).
+    pub defer_coarsening_s: f64,
 }
 
 impl Default for GazeSpec {
@@ -119,6 +123,7 @@ impl Default for GazeSpec {
             tracker_error_deg: 0.0,
             eyes_counter_rotate: true,
             saccade_threshold_deg_per_s: None,
+            defer_coarsening_s: 0.0,
         }
     }
 }

@@ -97,6 +97,7 @@ impl PolicyRunner {
                 .gaze
                 .saccade_threshold_deg_per_s
                 .map_or(f32::INFINITY, |v| v as f32),
+            defer_coarsening_s: world.scene.gaze.defer_coarsening_s as f32,
             radius_margin: world.radius_margin,
             ..SelectorSettings::default()
         };

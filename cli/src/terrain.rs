@@ -19,7 +19,6 @@ use std::time::Instant;
 use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
 use acuity::{Components, EccentricityModel, VelocityModel};
 use anyhow::Context;
-use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::barplot::{BarPlot, save_bar_plot};
 use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
@@ -92,6 +91,9 @@ pub struct TerrainArgs {
     /// `kelly1979`).
     #[arg(long, default_value = "reddy2001")]
     pub velocity_model: VelocityModel,
+    /// Print no progress bar on stderr (the table and warnings still print).
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// One row of Table 1: its criteria and the paper's results.
@@ -249,10 +251,7 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
         "display: {w}x{h} px over {}x{} deg, limit xi = {xi:.2} c/deg",
         args.fov[0], args.fov[1]
     );
-    let bar = ProgressBar::new((frames * ROWS.len()) as u64);
-    if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} frames  {msg}") {
-        bar.set_style(style);
-    }
+    let bar = crate::progress::bar((frames * ROWS.len()) as u64, "frames", args.quiet);
     let mut renderer = if args.render_every > 0 {
         let r = TerrainRenderer::new(args.resolution, args.fov, &terrain)
             .context("drawing the terrain (--render-every 0 measures refinement alone)")?;
@@ -483,6 +482,7 @@ mod tests {
             render_every: 0,
             eccentricity_model: EccentricityModel::Reddy2001,
             velocity_model: VelocityModel::Reddy2001,
+            quiet: true,
         };
         run(&args).unwrap();
         let table = std::fs::read_to_string(dir.join("table1.csv")).unwrap();

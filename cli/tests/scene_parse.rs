@@ -204,6 +204,25 @@ fn the_saccade_threshold_is_read_for_an_eye_tracker() {
 }
 
 #[test]
+fn the_wait_for_a_saccade_is_read_for_an_eye_tracker_only() {
+    let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.gaze.defer_coarsening_s, 0.0);
+    let text = format!("{MINIMAL_SCENE}\n[gaze]\ntracker = \"eye\"\ndefer_coarsening_s = 0.5\n");
+    let scene = Scene::parse(&text, "eye.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.gaze.defer_coarsening_s, 0.5);
+    let head = text.replace("\"eye\"", "\"head\"");
+    for (bad, text) in [
+        ("-0.1", text.replace("= 0.5", "= -0.1")),
+        ("nan", text.replace("= 0.5", "= nan")),
+        ("11", text.replace("= 0.5", "= 11")),
+        ("head tracker", head),
+    ] {
+        let err = Scene::parse(&text, "bad.toml").expect_err(bad).to_string();
+        assert!(err.contains("gaze.defer_coarsening_s"), "{bad}: {err}");
+    }
+}
+
+#[test]
 fn observer_table_chooses_the_eye_models_and_display_its_refresh_rate() {
     let text = MINIMAL_SCENE;
     let plain = Scene::parse(text, "plain.toml").unwrap_or_else(|e| panic!("{e}"));

@@ -5,6 +5,13 @@
 //! compared 64 selections at once, object by object only in groups that
 //! changed, and the ids of the changed ones are read in a pass of their
 //! own, whose cache misses overlap.
+//!
+//! Switches to coarser LODs may then wait for a saccade
+//! ([`SelectorSettings::defer_coarsening_s`](super::SelectorSettings)):
+//! a waiting object's selection is set back to last frame's and it leaves
+//! the change list. Wait times live in the objects' handles; the list of
+//! waiting handles is rebuilt each frame from the changes alone, so
+//! objects that do not switch cost nothing.
 
 use super::objects::NONE;
 use super::{Fade, FrameInput, ObjectId, Selector};
@@ -16,7 +23,7 @@ impl Selector {
     /// The objects whose selection (LOD or culled) changed in the last
     /// `select*` call, in no particular order, with
     /// [`SelectorSettings::track_changes`](super::SelectorSettings) on (or
-    /// cross-fades); empty otherwise. Objects added, or given another
+    /// cross-fades, or switches waiting for saccades); empty otherwise. Objects added, or given another
     /// profile, since the call before count as culled before: they are
     /// listed unless culled now. An object whose selection did not change
     /// is not in it; one removed since the call still is (check with
@@ -79,11 +86,61 @@ impl Selector {
     pub(super) fn finish_frame(&mut self, frame: &FrameInput) {
         let fade_s = self.settings.fade_time_s;
         let fading = fade_s.is_finite() && fade_s > 0.0;
-        if self.settings.track_changes || fading {
+        let deferring = self.defers_coarsening();
+        if self.settings.track_changes || fading || deferring {
             self.list_changes();
+        }
+        if deferring {
+            self.defer_coarsening(frame.dt_s);
         }
         if fading {
             self.advance_fades(frame.dt_s, fade_s);
+        }
+    }
+
+    /// Holds back this frame's switches to coarser LODs unless the gaze
+    /// is in a saccade or the switch has waited long enough (see
+    /// [`SelectorSettings::defer_coarsening_s`](super::SelectorSettings)).
+    fn defer_coarsening(&mut self, dt_s: f32) {
+        let max_wait_s = self.settings.defer_coarsening_s;
+        let step_s = if dt_s.is_finite() && dt_s > 0.0 {
+            dt_s
+        } else {
+            0.0
+        };
+        std::mem::swap(&mut self.deferred, &mut self.deferred_before);
+        self.deferred.clear();
+        if self.in_saccade == Some(false) {
+            let mut k = 0;
+            while k < self.changed.len() {
+                let (id, before) = (self.changed[k], self.switched_from[k]);
+                let slot = self.changed_slots[k] as usize;
+                let handle = self.handles[id.index as usize];
+                let waited_s = handle.deferred_s + step_s;
+                let coarser = matches!(
+                    (before.lod(), self.selections[slot].lod()),
+                    (Some(from), Some(to)) if to > from
+                );
+                let allowed = handle.adjust == NONE
+                    || before.lod().is_some_and(|l| {
+                        self.adjusted[handle.adjust as usize].range().contains(&l)
+                    });
+                if coarser && allowed && waited_s < max_wait_s {
+                    self.selections[slot] = before;
+                    self.deferred.push((id.index, waited_s));
+                    self.changed.swap_remove(k);
+                    self.changed_slots.swap_remove(k);
+                    self.switched_from.swap_remove(k);
+                } else {
+                    k += 1;
+                }
+            }
+        }
+        for &(h, _) in &self.deferred_before {
+            self.handles[h as usize].deferred_s = 0.0;
+        }
+        for &(h, waited_s) in &self.deferred {
+            self.handles[h as usize].deferred_s = waited_s;
         }
     }
 

@@ -260,6 +260,24 @@ pub struct SelectorSettings {
     /// selections, and the triangle budget does not count the LOD fading
     /// out.
     pub fade_time_s: f32,
+    /// With an eye tracker ([`crate::Tracker::Eye`]): the longest a switch
+    /// to a coarser LOD waits for a saccade, s. 0 (the default), and any
+    /// value not finite and > 0: switches happen on the frame they are
+    /// chosen.
+    ///
+    /// Vision is suppressed during a saccade, so a switch made then is the
+    /// least visible one. A switch to a coarser LOD only saves triangles,
+    /// so it may wait: the object keeps its finer LOD until a frame in
+    /// which the gaze moves faster than the saccade threshold
+    /// ([`saccade_threshold_deg_per_s`](Self::saccade_threshold_deg_per_s)
+    /// when set, else [`SACCADE_THRESHOLD_DEG_PER_S`]), or until it has
+    /// waited this long. Switches to a finer LOD (the detail is visible
+    /// now), into or out of view, and out of an object's LOD range happen
+    /// at once; a wait ends without a switch when the coarser LOD is no
+    /// longer chosen. A waiting object draws more triangles than chosen,
+    /// also under [`Selector::select_within_budget`]'s budget. Without an
+    /// eye tracker nothing waits (no saccade is seen).
+    pub defer_coarsening_s: f32,
 }
 
 /// A gaze speed that only saccades reach, deg/s (smooth pursuit stays
@@ -300,6 +318,7 @@ impl Default for SelectorSettings {
             radius_margin: 0.0,
             track_changes: false,
             fade_time_s: 0.0,
+            defer_coarsening_s: 0.0,
         }
     }
 }

@@ -28,6 +28,9 @@ pub(super) struct Handle {
     pub(super) adjust: u32,
     /// Position in [`Selector::fades`], or [`NONE`].
     pub(super) fade: u32,
+    /// How long the object's switch to a coarser LOD has waited for a
+    /// saccade, s (0: none waiting).
+    pub(super) deferred_s: f32,
 }
 
 /// An object with one LOD: only culled.
@@ -92,6 +95,7 @@ impl Selector {
                     slot: NONE,
                     adjust: NONE,
                     fade: NONE,
+                    deferred_s: 0.0,
                 });
                 self.handles.len() as u32 - 1
             }
@@ -127,6 +131,7 @@ impl Selector {
         }
         let handle = &mut self.handles[h];
         handle.slot = NONE;
+        handle.deferred_s = 0.0;
         handle.generation = handle.generation.wrapping_add(1);
         self.free_handles.push(id.index);
         Ok(())
@@ -252,6 +257,11 @@ impl Selector {
         let fade_s = self.settings.fade_time_s;
         if fade_s.is_finite() && fade_s > 0.0 {
             self.fades.reserve(n.saturating_sub(self.fades.len()));
+        }
+        if self.defers_coarsening() {
+            self.deferred.reserve(n.saturating_sub(self.deferred.len()));
+            self.deferred_before
+                .reserve(n.saturating_sub(self.deferred_before.len()));
         }
     }
 

@@ -22,8 +22,8 @@ use super::rule::count_coarser;
 use super::store::{Block, BudgetEntry, MotionBlock};
 use super::tables::{CompiledProfile, Ladder, ProfileRows, RowLayout, Tables};
 use super::{
-    BudgetOutcome, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId, Selection,
-    SelectorSettings, ViewpointRule,
+    BudgetOutcome, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId,
+    SACCADE_THRESHOLD_DEG_PER_S, Selection, SelectorSettings, ViewpointRule,
 };
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -111,6 +111,14 @@ pub struct Selector {
     pub(super) changed_slots: Vec<u32>,
     pub(super) switched_from: Vec<Selection>,
     pub(super) fades: Vec<Fade>,
+    /// With an eye tracker, whether the gaze moved as fast as a saccade
+    /// into this frame; `None` without one.
+    pub(super) in_saccade: Option<bool>,
+    /// The handles and wait times of the objects whose switch to a
+    /// coarser LOD waits for a saccade, this frame's and the frame
+    /// before's (swapped each frame; capacity for every object).
+    pub(super) deferred: Vec<(u32, f32)>,
+    pub(super) deferred_before: Vec<(u32, f32)>,
 }
 
 impl Selector {
@@ -146,6 +154,9 @@ impl Selector {
             changed_slots: Vec::new(),
             switched_from: Vec::new(),
             fades: Vec::new(),
+            in_saccade: None,
+            deferred: Vec::new(),
+            deferred_before: Vec::new(),
         }
     }
 
@@ -450,14 +461,26 @@ impl Selector {
         }
     }
 
-    /// This frame's floor under `G(v)`, c/deg (0 during a saccade), and the
-    /// gaze direction in world axes to remember for the next frame.
-    pub(super) fn frame_motion_floor(&self, frame: &FrameInput) -> (f32, Option<Vec3>) {
-        let threshold = self.settings.saccade_threshold_deg_per_s;
+    /// This frame's floor under `G(v)`, c/deg (0 during a saccade with
+    /// the saccade rule on), whether the gaze moved as fast as a saccade
+    /// (`None`: not known, without an eye tracker or with neither saccade
+    /// setting on), and the gaze direction in world axes to remember for
+    /// the next frame.
+    pub(super) fn frame_motion_floor(
+        &self,
+        frame: &FrameInput,
+    ) -> (f32, Option<bool>, Option<Vec3>) {
+        let rule = self.settings.saccade_threshold_deg_per_s;
+        let rule_on = rule > 0.0 && rule.is_finite();
         let eye_tracked = matches!(frame.gaze.tracker, Tracker::Eye { .. });
-        if !(eye_tracked && threshold > 0.0 && threshold.is_finite()) {
-            return (self.motion_floor_cpd, None);
+        if !(eye_tracked && (rule_on || self.defers_coarsening())) {
+            return (self.motion_floor_cpd, None, None);
         }
+        let threshold = if rule_on {
+            rule
+        } else {
+            SACCADE_THRESHOLD_DEG_PER_S
+        };
         let gaze_world =
             (frame.camera.orientation.normalize() * frame.gaze.direction_camera).try_normalize();
         let dt = frame.dt_s;
@@ -467,12 +490,19 @@ impl Selector {
             }
             _ => false,
         };
-        let floor = if in_saccade {
+        let floor = if in_saccade && rule_on {
             0.0
         } else {
             self.motion_floor_cpd
         };
-        (floor, gaze_world)
+        (floor, Some(in_saccade), gaze_world)
+    }
+
+    /// Whether switches to coarser LODs wait for saccades
+    /// ([`SelectorSettings::defer_coarsening_s`]).
+    pub(super) fn defers_coarsening(&self) -> bool {
+        let wait_s = self.settings.defer_coarsening_s;
+        wait_s.is_finite() && wait_s > 0.0
     }
 
     /// The loop over every object, writing the selections and, when asked,
@@ -485,7 +515,7 @@ impl Selector {
         diagnostics: bool,
         budget: bool,
     ) -> Result<()> {
-        let (motion_floor_cpd, gaze_world) = self.frame_motion_floor(frame);
+        let (motion_floor_cpd, in_saccade, gaze_world) = self.frame_motion_floor(frame);
         let mut c = frame_consts(
             &self.display,
             &self.settings,
@@ -503,6 +533,7 @@ impl Selector {
         )?;
         c.pursued = self.pursued_slot(frame.gaze.pursued);
         self.gaze_world = gaze_world;
+        self.in_saccade = in_saccade;
         let multi = self.object_profiles.len();
         // Last frame's selections become the previous ones; the loop writes
         // every selection of objects with several LODs, and the one below

@@ -42,6 +42,7 @@
 //! tracker = "eye"                    # "none" | "head" | "eye"
 //! eye_error_deg = 1.0                # only with tracker = "eye"
 //! saccade_threshold_deg_per_s = 180  # only with tracker = "eye"; default: no saccade rule
+//! defer_coarsening_s = 0.5           # only with tracker = "eye": coarser LODs wait for a saccade
 //!
 //! [run]                              # optional; defaults shown in RunSpec
 //! target_hz = 60
@@ -532,6 +533,10 @@ pub struct RunSpec {
 
 /// The longest cross-fade a scene or `--cross-fade-s` may ask for, s.
 pub const MAX_CROSS_FADE_S: f64 = 10.0;
+
+/// The longest `[gaze] defer_coarsening_s`, seconds: a switch that waits
+/// longer than a few seconds for a saccade is a switch that did not happen.
+pub const MAX_DEFER_COARSENING_S: f64 = 10.0;
 
 impl RunSpec {
     /// Simulated time of frame `k`, seconds: `k * frame_dt_s`.

@@ -3,9 +3,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::ObjectSpec;
 use super::context::{Ctx, Res};
 use super::raw::{RawCamera, RawGaze, RawGazeMode};
+use super::{MAX_DEFER_COARSENING_S, ObjectSpec};
 use crate::arrays::Exact;
 use crate::gaze::{GazeMode, GazePoint, GazeSpec, Tracker};
 use crate::path::{CameraMotion, CameraPath, Keyframe, YawSweep};
@@ -271,12 +271,27 @@ impl Ctx<'_> {
                 ));
             }
         }
+        if let Some(wait_s) = g.defer_coarsening_s {
+            if g.tracker != Tracker::Eye {
+                return Err(self.invalid(
+                    "gaze.defer_coarsening_s",
+                    "needs tracker = \"eye\" (only an eye tracker sees saccades)",
+                ));
+            }
+            if !(0.0..=MAX_DEFER_COARSENING_S).contains(&wait_s) {
+                return Err(self.invalid(
+                    "gaze.defer_coarsening_s",
+                    format!("{wait_s} s must be in [0, {MAX_DEFER_COARSENING_S}]"),
+                ));
+            }
+        }
         Ok(GazeSpec {
             mode,
             tracker: g.tracker,
             tracker_error_deg,
             eyes_counter_rotate: g.eyes_counter_rotate.unwrap_or(true),
             saccade_threshold_deg_per_s: g.saccade_threshold_deg_per_s,
+            defer_coarsening_s: g.defer_coarsening_s.unwrap_or(0.0),
         })
     }
 

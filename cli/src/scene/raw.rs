@@ -167,6 +167,7 @@ pub(super) struct RawGaze {
     pub(super) eye_error_deg: Option<f64>,
     pub(super) eyes_counter_rotate: Option<bool>,
     pub(super) saccade_threshold_deg_per_s: Option<f64>,
+    pub(super) defer_coarsening_s: Option<f64>,
 }
 
 #[derive(Deserialize)]
