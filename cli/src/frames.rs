@@ -466,6 +466,7 @@ impl World {
             view_proj: self.view_proj(view),
             instances: &draws,
             dither: &dither,
+            tint: &[],
             lighting: Lighting::default(),
             background_srgb: BACKGROUND_SRGB,
         })?;
