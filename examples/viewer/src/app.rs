@@ -227,7 +227,7 @@ impl Viewer {
             triangles: out.triangles,
             full_triangles,
         });
-        self.frames_shown += 1;
+        self.frames_shown = self.frames_shown.saturating_add(1);
         Ok(())
     }
 

@@ -22,7 +22,8 @@ Flies through SCENE's camera path in real time, looping (default scenes/default.
   --policy NAME          the LOD policy shown first (default acuity_all)
   --overlay              start with the LOD colour overlay on
   --frames N             quit after N frames (N >= 1)
-  --screenshot FILE.png  write the last frame shown to FILE.png on quitting
+  --screenshot FILE.png  on quitting, write the last frame shown to FILE.png
+                         (at the scene's resolution, overlay included)
 keys: Tab/P policy, O overlay, [ ] halve/double s, Space pause,
       Left/Right step a frame while paused, Esc quit";
 
@@ -46,7 +47,8 @@ pub struct Options {
     pub overlay: bool,
     /// Quit after this many frames (>= 1); `None`: run until closed.
     pub frames: Option<u32>,
-    /// Where to write the last frame shown, a `.png` file.
+    /// Where to write the last frame shown (at the scene's resolution,
+    /// as rendered, overlay included), a `.png` file.
     pub screenshot: Option<PathBuf>,
 }
 
