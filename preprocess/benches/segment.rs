@@ -119,6 +119,7 @@ fn rendering(c: &mut Criterion) {
                 view_proj: cam.view_proj,
                 instances: &[],
                 dither: &[],
+                tint: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })
@@ -135,6 +136,7 @@ fn rendering(c: &mut Criterion) {
                 view_proj: cam.view_proj,
                 instances: &[(id, Mat4::IDENTITY)],
                 dither: &[],
+                tint: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })

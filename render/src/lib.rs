@@ -47,6 +47,11 @@
 //!   depth test and without sorting or blending. The mask is per pixel
 //!   (all MSAA samples of a pixel keep or drop together), and fractions
 //!   take effect in steps of 1/16.
+//! - **Tints**: an instance may carry a linear-RGB multiplier of its
+//!   shaded colour ([`RenderRequest::tint`]), for overlays such as a
+//!   viewer's colour per LOD; an untinted instance is drawn as is.
+//!   Instances are grouped per mesh and packed in their own module
+//!   (`instances`).
 //! - **Deterministic**: the same requests give the same bytes (fixed
 //!   pipeline state and sample pattern, no blending; llvmpipe rasterises
 //!   deterministically).
@@ -64,6 +69,7 @@ pub mod files;
 mod gltf_data;
 pub mod gltf_mesh;
 pub mod gltf_write;
+mod instances;
 pub mod mesh;
 mod mtl;
 pub mod obj_write;
@@ -72,7 +78,9 @@ pub mod texture;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, Weak};
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
+
+use crate::instances::INSTANCE_STRIDE;
 
 pub use crate::dither::DitherMask;
 pub use crate::error::Error;
@@ -130,6 +138,11 @@ pub struct RenderRequest<'a> {
     /// Each instance's dither mask, in the order of `instances`; empty:
     /// none masked (else exactly one per instance).
     pub dither: &'a [DitherMask],
+    /// Each instance's tint, in the order of `instances`: a linear-RGB
+    /// multiplier of its shaded colour (each channel in `[0, 1]` typical;
+    /// the product is clamped to 1). Empty: none tinted (else exactly one
+    /// per instance).
+    pub tint: &'a [[f32; 3]],
     /// The light.
     pub lighting: Lighting,
     /// Background colour, sRGB8 (written to the image as is).
@@ -214,7 +227,6 @@ pub struct Renderer {
 }
 
 const VERTEX_STRIDE: u64 = 44; // position, normal, colour: 3 × f32x3; uv: f32x2
-const INSTANCE_STRIDE: u64 = 120; // model mat4 + normal mat3 as 3 × vec4 + dither range vec2
 const UNIFORM_SIZE: u64 = 96; // view_proj mat4 + light dir vec4 + light params vec4
 
 /// The shading of both renderers (see the module docs).
@@ -327,7 +339,8 @@ impl Renderer {
         ];
         let iattrs = wgpu::vertex_attr_array![
             3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
-            7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 11 => Float32x2
+            7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 11 => Float32x2,
+            12 => Float32x3
         ];
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("acuity lit"),
@@ -534,26 +547,9 @@ impl Renderer {
         }
         let mut state = self.lock();
         let state = &mut *state;
-        if let Some(&(bad, _)) = req
-            .instances
-            .iter()
-            .find(|(id, _)| state.meshes.get(id.0 as usize).is_none_or(Option::is_none))
-        {
-            return Err(Error::Settings {
-                field: "instances",
-                message: format!("unknown mesh id {}", bad.0),
-            });
-        }
-        if !req.dither.is_empty() && req.dither.len() != req.instances.len() {
-            return Err(Error::Settings {
-                field: "dither",
-                message: format!(
-                    "{} masks for {} instances (give none or one each)",
-                    req.dither.len(),
-                    req.instances.len()
-                ),
-            });
-        }
+        instances::check(req, |id| {
+            state.meshes.get(id.0 as usize).is_some_and(Option::is_some)
+        })?;
         self.ensure_target(state, req.width, req.height);
 
         // Uniforms.
@@ -576,50 +572,15 @@ impl Renderer {
         }
         self.queue.write_buffer(&self.uniforms, 0, &u);
 
-        // Instances grouped per mesh, in order of first appearance.
-        let mut order: Vec<MeshId> = Vec::new();
-        let mut groups: HashMap<MeshId, Vec<(Mat4, DitherMask)>> = Default::default();
-        for (k, (id, m)) in req.instances.iter().enumerate() {
-            let mask = req.dither.get(k).copied().unwrap_or(DitherMask::ALL);
-            groups
-                .entry(*id)
-                .or_insert_with(|| {
-                    order.push(*id);
-                    Vec::new()
-                })
-                .push((*m, mask));
-        }
-        let mut ibytes = Vec::with_capacity(req.instances.len() * INSTANCE_STRIDE as usize);
-        let mut ranges = Vec::with_capacity(order.len());
-        let mut triangles = 0u64;
-        for id in &order {
-            let mats = &groups[id];
-            let start = (ibytes.len() as u64 / INSTANCE_STRIDE) as u32;
-            for (m, mask) in mats {
-                let n = Mat3::from_mat4(*m).inverse().transpose();
-                let n = if n.is_finite() {
-                    n
-                } else {
-                    Mat3::from_mat4(*m)
-                };
-                for f in m.to_cols_array() {
-                    ibytes.extend_from_slice(&f.to_le_bytes());
-                }
-                for col in [n.x_axis, n.y_axis, n.z_axis] {
-                    for f in [col.x, col.y, col.z, 0.0] {
-                        ibytes.extend_from_slice(&f.to_le_bytes());
-                    }
-                }
-                for f in [mask.keep_from, mask.keep_below] {
-                    ibytes.extend_from_slice(&f.to_le_bytes());
-                }
-            }
-            let index_count = state.meshes[id.0 as usize]
+        let instances::Packed {
+            bytes: ibytes,
+            ranges,
+            triangles,
+        } = instances::pack(req, |id| {
+            state.meshes[id.0 as usize]
                 .as_ref()
-                .map_or(0, |m| m.index_count);
-            triangles += u64::from(index_count / 3) * mats.len() as u64;
-            ranges.push((*id, start..start + mats.len() as u32));
-        }
+                .map_or(0, |m| m.index_count)
+        });
         if !ibytes.is_empty() {
             let need = ibytes.len() as u64;
             if state.instance_buf.as_ref().is_none_or(|b| b.size() < need) {

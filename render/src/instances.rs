@@ -1,0 +1,188 @@
+//! A frame's per-instance data: the checks of a request's per-instance
+//! slices, and the instances grouped per mesh (in order of first
+//! appearance, one instanced draw call each) and packed as the bytes of
+//! the instance vertex buffer the shader reads.
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use glam::{Mat3, Mat4};
+
+use crate::{DitherMask, Error, MeshId, RenderRequest};
+
+/// Bytes per instance: the model matrix (mat4), the normal matrix as 3 ×
+/// vec4, the dither range (vec2) and the tint (vec3), all `f32`.
+pub(crate) const INSTANCE_STRIDE: u64 = 132;
+
+/// The tint of an instance without one: white, which leaves its colour as
+/// it is.
+const NO_TINT: [f32; 3] = [1.0; 3];
+
+/// Instances packed for one frame.
+pub(crate) struct Packed {
+    /// The instance buffer's bytes, [`INSTANCE_STRIDE`] per instance.
+    pub bytes: Vec<u8>,
+    /// Each mesh's instances in `bytes`, as instance indices.
+    pub ranges: Vec<(MeshId, Range<u32>)>,
+    /// Triangles submitted (instances × triangles of their mesh).
+    pub triangles: u64,
+}
+
+/// Checks that every instance's mesh is `known` and that `dither` and
+/// `tint` are each empty or one per instance.
+pub(crate) fn check(req: &RenderRequest<'_>, known: impl Fn(MeshId) -> bool) -> Result<(), Error> {
+    if let Some((bad, _)) = req.instances.iter().find(|(id, _)| !known(*id)) {
+        return Err(Error::Settings {
+            field: "instances",
+            message: format!("unknown mesh id {}", bad.0),
+        });
+    }
+    let n = req.instances.len();
+    for (field, len, what) in [
+        ("dither", req.dither.len(), "masks"),
+        ("tint", req.tint.len(), "tints"),
+    ] {
+        if len != 0 && len != n {
+            return Err(Error::Settings {
+                field,
+                message: format!("{len} {what} for {n} instances (give none or one each)"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Groups `req`'s instances per mesh and packs them. `index_count` gives a
+/// mesh's index count (0 for a freed one). The slices must have passed
+/// [`check`].
+pub(crate) fn pack(req: &RenderRequest<'_>, index_count: impl Fn(MeshId) -> u32) -> Packed {
+    let mut order: Vec<MeshId> = Vec::new();
+    let mut groups: HashMap<MeshId, Vec<usize>> = HashMap::new();
+    for (k, (id, _)) in req.instances.iter().enumerate() {
+        groups
+            .entry(*id)
+            .or_insert_with(|| {
+                order.push(*id);
+                Vec::new()
+            })
+            .push(k);
+    }
+    let mut bytes = Vec::with_capacity(req.instances.len() * INSTANCE_STRIDE as usize);
+    let mut ranges = Vec::with_capacity(order.len());
+    let mut triangles = 0u64;
+    for id in order {
+        let members = &groups[&id];
+        let start = (bytes.len() as u64 / INSTANCE_STRIDE) as u32;
+        for &k in members {
+            let mask = req.dither.get(k).copied().unwrap_or(DitherMask::ALL);
+            let tint = req.tint.get(k).copied().unwrap_or(NO_TINT);
+            push_instance(&mut bytes, &req.instances[k].1, mask, tint);
+        }
+        triangles += u64::from(index_count(id) / 3) * members.len() as u64;
+        ranges.push((id, start..start + members.len() as u32));
+    }
+    Packed {
+        bytes,
+        ranges,
+        triangles,
+    }
+}
+
+/// Appends one instance's [`INSTANCE_STRIDE`] bytes.
+fn push_instance(bytes: &mut Vec<u8>, m: &Mat4, mask: DitherMask, tint: [f32; 3]) {
+    // The normal matrix; a singular model matrix keeps its own 3x3.
+    let n = Mat3::from_mat4(*m).inverse().transpose();
+    let n = if n.is_finite() {
+        n
+    } else {
+        Mat3::from_mat4(*m)
+    };
+    let normal = [n.x_axis, n.y_axis, n.z_axis]
+        .into_iter()
+        .flat_map(|c| [c.x, c.y, c.z, 0.0]);
+    let floats = m
+        .to_cols_array()
+        .into_iter()
+        .chain(normal)
+        .chain([mask.keep_from, mask.keep_below])
+        .chain(tint);
+    for f in floats {
+        bytes.extend_from_slice(&f.to_le_bytes());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Lighting;
+
+    fn request<'a>(
+        instances: &'a [(MeshId, Mat4)],
+        dither: &'a [DitherMask],
+        tint: &'a [[f32; 3]],
+    ) -> RenderRequest<'a> {
+        RenderRequest {
+            width: 1,
+            height: 1,
+            view_proj: Mat4::IDENTITY,
+            instances,
+            dither,
+            tint,
+            lighting: Lighting::default(),
+            background_srgb: [0; 3],
+        }
+    }
+
+    fn floats(bytes: &[u8]) -> Vec<f32> {
+        bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    }
+
+    #[test]
+    fn instances_group_per_mesh_in_order_of_first_appearance() {
+        let (a, b) = (MeshId(3), MeshId(1));
+        let t = |x: f32| Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0));
+        let inst = [(a, t(1.0)), (b, t(2.0)), (a, t(3.0))];
+        let tint = [[0.1, 0.2, 0.3], [1.0; 3], [0.4, 0.5, 0.6]];
+        let p = pack(
+            &request(&inst, &[], &tint),
+            |id| if id == a { 30 } else { 6 },
+        );
+        assert_eq!(p.ranges, vec![(a, 0..2), (b, 2..3)]);
+        assert_eq!(p.triangles, 10 + 10 + 2);
+        assert_eq!(p.bytes.len(), 3 * INSTANCE_STRIDE as usize);
+        let f = floats(&p.bytes);
+        let per = INSTANCE_STRIDE as usize / 4;
+        // The second of mesh `a` is the third instance: x = 3, its tint.
+        let second = &f[per..2 * per];
+        assert_eq!(second[12], 3.0);
+        assert_eq!(second[28..30], [0.0, 1.0]);
+        assert_eq!(second[30..33], [0.4, 0.5, 0.6]);
+    }
+
+    #[test]
+    fn a_missing_tint_is_white_and_a_missing_mask_keeps_all() {
+        let inst = [(MeshId(0), Mat4::from_scale(glam::Vec3::splat(2.0)))];
+        let f = floats(&pack(&request(&inst, &[], &[]), |_| 3).bytes);
+        assert_eq!(f[28..33], [0.0, 1.0, 1.0, 1.0, 1.0]);
+        // The normal matrix of a uniform scale by 2 is a scale by 1/2.
+        assert_eq!([f[16], f[21], f[26]], [0.5; 3]);
+    }
+
+    #[test]
+    fn slices_are_empty_or_one_per_instance() {
+        let inst = [(MeshId(0), Mat4::IDENTITY); 2];
+        let known = |id: MeshId| id.0 == 0;
+        assert!(check(&request(&inst, &[], &[]), known).is_ok());
+        let all = request(&inst, &[DitherMask::ALL; 2], &[[1.0; 3]; 2]);
+        assert!(check(&all, known).is_ok());
+        let e = check(&request(&inst, &[], &[[1.0; 3]]), known).unwrap_err();
+        assert!(e.to_string().contains("tint"), "{e}");
+        let e = check(&request(&inst, &[DitherMask::ALL; 3], &[]), known).unwrap_err();
+        assert!(e.to_string().contains("dither"), "{e}");
+        let e = check(&request(&[(MeshId(7), Mat4::IDENTITY)], &[], &[]), known).unwrap_err();
+        assert!(e.to_string().contains("unknown mesh id 7"), "{e}");
+    }
+}
