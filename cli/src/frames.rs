@@ -190,9 +190,10 @@ fn check_full_detail(scene: &Scene, lod0_triangles: &[u32]) -> anyhow::Result<()
     })
 }
 
-/// The tint of LOD `lod` in a palette of [`World::render_tinted`]: its
-/// entry, the last one for a LOD past the end, `None` for an empty palette.
-pub fn lod_tint(palette: &[[f32; 3]], lod: usize) -> Option<[f32; 3]> {
+/// The colour of LOD `lod` in a palette of [`World::render_coloured`]:
+/// its entry, the last one for a LOD past the end, `None` for an empty
+/// palette.
+pub fn lod_colour(palette: &[[f32; 3]], lod: usize) -> Option<[f32; 3]> {
     palette.get(lod).or(palette.last()).copied()
 }
 
@@ -431,15 +432,15 @@ impl World {
         lods: &[Option<usize>],
         fades: &[Option<FadeOut>],
     ) -> anyhow::Result<RenderOutput> {
-        self.render_tinted(view, lods, fades, &[])
+        self.render_coloured(view, lods, fades, &[])
     }
 
-    /// As [`World::render_faded`], with every drawn mesh tinted by the
-    /// colour of its LOD in `palette` (linear-RGB multipliers of the shaded
-    /// colour, finest LOD first; a LOD past the end takes the last entry),
-    /// both halves of a cross-fade by their own LOD. An empty palette
-    /// tints nothing.
-    pub fn render_tinted(
+    /// As [`World::render_faded`], with every drawn mesh coloured by its
+    /// LOD's entry in `palette` (linear RGB replacing the mesh's own
+    /// colours, lit as usual: [`RenderRequest::albedo`]; finest LOD first, a
+    /// LOD past the end takes the last entry), both halves of a cross-fade
+    /// by their own LOD. An empty palette keeps every mesh's colours.
+    pub fn render_coloured(
         &self,
         view: &FrameView,
         lods: &[Option<usize>],
@@ -448,8 +449,8 @@ impl World {
     ) -> anyhow::Result<RenderOutput> {
         let mut draws: Vec<(MeshId, Mat4)> = Vec::with_capacity(lods.len());
         let mut dither: Vec<DitherMask> = Vec::new();
-        let mut tint: Vec<[f32; 3]> = Vec::new();
-        let tint_of = |lod: usize| lod_tint(palette, lod);
+        let mut albedo: Vec<[f32; 3]> = Vec::new();
+        let colour_of = |lod: usize| lod_colour(palette, lod);
         let eye_m = self.rendered_eye_m(view);
         for (i, (inst, lod)) in self.instances.iter().zip(lods).enumerate() {
             let Some(lod) = *lod else { continue };
@@ -473,14 +474,14 @@ impl World {
                     dither.resize(draws.len(), DitherMask::ALL);
                     draws.push((mesh, m));
                     dither.push(DitherMask::fading_in(fade.fraction));
-                    tint.extend(tint_of(lod));
+                    albedo.extend(colour_of(lod));
                     draws.push((mesh_of(fade.from_lod)?, m));
                     dither.push(DitherMask::fading_out(fade.fraction));
-                    tint.extend(tint_of(fade.from_lod));
+                    albedo.extend(colour_of(fade.from_lod));
                 }
                 None => {
                     draws.push((mesh, m));
-                    tint.extend(tint_of(lod));
+                    albedo.extend(colour_of(lod));
                 }
             }
         }
@@ -494,7 +495,7 @@ impl World {
             view_proj: self.view_proj(view),
             instances: &draws,
             dither: &dither,
-            tint: &tint,
+            albedo: &albedo,
             lighting: Lighting::default(),
             background_srgb: BACKGROUND_SRGB,
         })?;
@@ -514,9 +515,9 @@ mod tests {
     #[test]
     fn lods_past_the_palette_take_its_last_colour() {
         let palette = [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0]];
-        assert_eq!(lod_tint(&palette, 0), Some([0.0, 1.0, 0.0]));
-        assert_eq!(lod_tint(&palette, 1), Some([1.0, 0.0, 0.0]));
-        assert_eq!(lod_tint(&palette, 5), Some([1.0, 0.0, 0.0]));
-        assert_eq!(lod_tint(&[], 0), None);
+        assert_eq!(lod_colour(&palette, 0), Some([0.0, 1.0, 0.0]));
+        assert_eq!(lod_colour(&palette, 1), Some([1.0, 0.0, 0.0]));
+        assert_eq!(lod_colour(&palette, 5), Some([1.0, 0.0, 0.0]));
+        assert_eq!(lod_colour(&[], 0), None);
     }
 }

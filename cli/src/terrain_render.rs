@@ -116,7 +116,7 @@ impl TerrainRenderer {
                 view_proj: view_proj(camera, tile),
                 instances: &[(id, Mat4::IDENTITY)],
                 dither: &[],
-                tint: &[],
+                albedo: &[],
                 lighting: Lighting {
                     direction_to_light: [0.3, -0.4, 0.85],
                     ..Lighting::default()

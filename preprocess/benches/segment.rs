@@ -119,7 +119,7 @@ fn rendering(c: &mut Criterion) {
                 view_proj: cam.view_proj,
                 instances: &[],
                 dither: &[],
-                tint: &[],
+                albedo: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })
@@ -136,7 +136,7 @@ fn rendering(c: &mut Criterion) {
                 view_proj: cam.view_proj,
                 instances: &[(id, Mat4::IDENTITY)],
                 dither: &[],
-                tint: &[],
+                albedo: &[],
                 lighting: Lighting::default(),
                 background_srgb: [0; 3],
             })

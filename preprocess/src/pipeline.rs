@@ -567,7 +567,7 @@ fn render_and_measure(
                         view_proj: cam.view_proj,
                         instances: &[(*id, Mat4::IDENTITY)],
                         dither: &[],
-                        tint: &[],
+                        albedo: &[],
                         lighting,
                         background_srgb: settings.background_srgb,
                     })?;

@@ -195,7 +195,7 @@ fn identical_lods_have_no_unique_features() {
                 view_proj: cam.view_proj,
                 instances: &[(id, glam::Mat4::IDENTITY)],
                 dither: &[],
-                tint: &[],
+                albedo: &[],
                 lighting: Default::default(),
                 background_srgb: [0; 3],
             })

@@ -45,7 +45,7 @@ fn rows_are_unpadded_and_top_first_at_odd_widths() {
             view_proj: Mat4::IDENTITY,
             instances: &[(id, Mat4::IDENTITY)],
             dither: &[],
-            tint: &[],
+            albedo: &[],
             lighting: Lighting {
                 direction_to_light: [0.0, 0.0, 1.0],
                 diffuse: 1.0,
@@ -97,7 +97,7 @@ fn instances_are_drawn_with_one_call_per_mesh() {
             view_proj: Mat4::IDENTITY,
             instances: &inst,
             dither: &[],
-            tint: &[],
+            albedo: &[],
             lighting: Lighting::default(),
             background_srgb: [0, 0, 0],
         })
@@ -114,7 +114,7 @@ fn instances_are_drawn_with_one_call_per_mesh() {
             view_proj: Mat4::IDENTITY,
             instances: &inst,
             dither: &[],
-            tint: &[],
+            albedo: &[],
             lighting: Lighting::default(),
             background_srgb: [0; 3]
         })
@@ -138,7 +138,7 @@ fn the_same_frame_renders_to_the_same_bytes_on_two_devices() {
             view_proj: cam.view_proj,
             instances: &[(id, Mat4::IDENTITY)],
             dither: &[],
-            tint: &[],
+            albedo: &[],
             lighting: Lighting::default(),
             background_srgb: [0, 0, 0],
         })

@@ -113,7 +113,7 @@ fn draw(r: &Renderer, m: &Mesh, size: u32) -> Vec<u8> {
             view_proj: Mat4::IDENTITY,
             instances: &[(id, Mat4::IDENTITY)],
             dither: &[],
-            tint: &[],
+            albedo: &[],
             lighting: Lighting {
                 direction_to_light: [0.0, 0.0, 1.0],
                 diffuse: 1.0,

@@ -11,12 +11,13 @@ use glam::{Mat3, Mat4};
 use crate::{DitherMask, Error, MeshId, RenderRequest};
 
 /// Bytes per instance: the model matrix (mat4), the normal matrix as 3 ×
-/// vec4, the dither range (vec2) and the tint (vec3), all `f32`.
-pub(crate) const INSTANCE_STRIDE: u64 = 132;
+/// vec4, the dither range (vec2) and the albedo (vec4: rgb, and 1 in w
+/// when set), all `f32`.
+pub(crate) const INSTANCE_STRIDE: u64 = 136;
 
-/// The tint of an instance without one: white, which leaves its colour as
-/// it is.
-const NO_TINT: [f32; 3] = [1.0; 3];
+/// The albedo of an instance without one: weight 0, so the mesh keeps its
+/// own colours.
+const OWN_COLOURS: [f32; 4] = [0.0; 4];
 
 /// Instances packed for one frame.
 pub(crate) struct Packed {
@@ -29,7 +30,7 @@ pub(crate) struct Packed {
 }
 
 /// Checks that every instance's mesh is `known` and that `dither` and
-/// `tint` are each empty or one per instance.
+/// `albedo` are each empty or one per instance.
 pub(crate) fn check(req: &RenderRequest<'_>, known: impl Fn(MeshId) -> bool) -> Result<(), Error> {
     if let Some((bad, _)) = req.instances.iter().find(|(id, _)| !known(*id)) {
         return Err(Error::Settings {
@@ -40,7 +41,7 @@ pub(crate) fn check(req: &RenderRequest<'_>, known: impl Fn(MeshId) -> bool) -> 
     let n = req.instances.len();
     for (field, len, what) in [
         ("dither", req.dither.len(), "masks"),
-        ("tint", req.tint.len(), "tints"),
+        ("albedo", req.albedo.len(), "colours"),
     ] {
         if len != 0 && len != n {
             return Err(Error::Settings {
@@ -75,8 +76,11 @@ pub(crate) fn pack(req: &RenderRequest<'_>, index_count: impl Fn(MeshId) -> u32)
         let start = (bytes.len() as u64 / INSTANCE_STRIDE) as u32;
         for &k in members {
             let mask = req.dither.get(k).copied().unwrap_or(DitherMask::ALL);
-            let tint = req.tint.get(k).copied().unwrap_or(NO_TINT);
-            push_instance(&mut bytes, &req.instances[k].1, mask, tint);
+            let albedo = req
+                .albedo
+                .get(k)
+                .map_or(OWN_COLOURS, |&[r, g, b]| [r, g, b, 1.0]);
+            push_instance(&mut bytes, &req.instances[k].1, mask, albedo);
         }
         triangles += u64::from(index_count(id) / 3) * members.len() as u64;
         ranges.push((id, start..start + members.len() as u32));
@@ -89,7 +93,7 @@ pub(crate) fn pack(req: &RenderRequest<'_>, index_count: impl Fn(MeshId) -> u32)
 }
 
 /// Appends one instance's [`INSTANCE_STRIDE`] bytes.
-fn push_instance(bytes: &mut Vec<u8>, m: &Mat4, mask: DitherMask, tint: [f32; 3]) {
+fn push_instance(bytes: &mut Vec<u8>, m: &Mat4, mask: DitherMask, albedo: [f32; 4]) {
     // The normal matrix; a singular model matrix keeps its own 3x3.
     let n = Mat3::from_mat4(*m).inverse().transpose();
     let n = if n.is_finite() {
@@ -105,7 +109,7 @@ fn push_instance(bytes: &mut Vec<u8>, m: &Mat4, mask: DitherMask, tint: [f32; 3]
         .into_iter()
         .chain(normal)
         .chain([mask.keep_from, mask.keep_below])
-        .chain(tint);
+        .chain(albedo);
     for f in floats {
         bytes.extend_from_slice(&f.to_le_bytes());
     }
@@ -119,7 +123,7 @@ mod tests {
     fn request<'a>(
         instances: &'a [(MeshId, Mat4)],
         dither: &'a [DitherMask],
-        tint: &'a [[f32; 3]],
+        albedo: &'a [[f32; 3]],
     ) -> RenderRequest<'a> {
         RenderRequest {
             width: 1,
@@ -127,7 +131,7 @@ mod tests {
             view_proj: Mat4::IDENTITY,
             instances,
             dither,
-            tint,
+            albedo,
             lighting: Lighting::default(),
             background_srgb: [0; 3],
         }
@@ -145,9 +149,9 @@ mod tests {
         let (a, b) = (MeshId(3), MeshId(1));
         let t = |x: f32| Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0));
         let inst = [(a, t(1.0)), (b, t(2.0)), (a, t(3.0))];
-        let tint = [[0.1, 0.2, 0.3], [1.0; 3], [0.4, 0.5, 0.6]];
+        let albedo = [[0.1, 0.2, 0.3], [1.0; 3], [0.4, 0.5, 0.6]];
         let p = pack(
-            &request(&inst, &[], &tint),
+            &request(&inst, &[], &albedo),
             |id| if id == a { 30 } else { 6 },
         );
         assert_eq!(p.ranges, vec![(a, 0..2), (b, 2..3)]);
@@ -155,18 +159,18 @@ mod tests {
         assert_eq!(p.bytes.len(), 3 * INSTANCE_STRIDE as usize);
         let f = floats(&p.bytes);
         let per = INSTANCE_STRIDE as usize / 4;
-        // The second of mesh `a` is the third instance: x = 3, its tint.
+        // The second of mesh `a` is the third instance: x = 3, its albedo.
         let second = &f[per..2 * per];
         assert_eq!(second[12], 3.0);
         assert_eq!(second[28..30], [0.0, 1.0]);
-        assert_eq!(second[30..33], [0.4, 0.5, 0.6]);
+        assert_eq!(second[30..34], [0.4, 0.5, 0.6, 1.0]);
     }
 
     #[test]
-    fn a_missing_tint_is_white_and_a_missing_mask_keeps_all() {
+    fn a_missing_albedo_keeps_the_mesh_colours_and_a_missing_mask_keeps_all() {
         let inst = [(MeshId(0), Mat4::from_scale(glam::Vec3::splat(2.0)))];
         let f = floats(&pack(&request(&inst, &[], &[]), |_| 3).bytes);
-        assert_eq!(f[28..33], [0.0, 1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(f[28..34], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
         // The normal matrix of a uniform scale by 2 is a scale by 1/2.
         assert_eq!([f[16], f[21], f[26]], [0.5; 3]);
     }
@@ -179,7 +183,7 @@ mod tests {
         let all = request(&inst, &[DitherMask::ALL; 2], &[[1.0; 3]; 2]);
         assert!(check(&all, known).is_ok());
         let e = check(&request(&inst, &[], &[[1.0; 3]]), known).unwrap_err();
-        assert!(e.to_string().contains("tint"), "{e}");
+        assert!(e.to_string().contains("albedo"), "{e}");
         let e = check(&request(&inst, &[DitherMask::ALL; 3], &[]), known).unwrap_err();
         assert!(e.to_string().contains("dither"), "{e}");
         let e = check(&request(&[(MeshId(7), Mat4::IDENTITY)], &[], &[]), known).unwrap_err();

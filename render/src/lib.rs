@@ -47,9 +47,11 @@
 //!   depth test and without sorting or blending. The mask is per pixel
 //!   (all MSAA samples of a pixel keep or drop together), and fractions
 //!   take effect in steps of 1/16.
-//! - **Tints**: an instance may carry a linear-RGB multiplier of its
-//!   shaded colour ([`RenderRequest::tint`]), for overlays such as a
-//!   viewer's colour per LOD; an untinted instance is drawn as is.
+//! - **Colour overrides**: an instance may carry a surface colour that
+//!   replaces its mesh's vertex colours and texture and is lit as usual
+//!   ([`RenderRequest::albedo`]), for overlays such as a viewer's colour
+//!   per LOD (one flat hue per object, whatever the mesh's own colours);
+//!   other instances are drawn as they are.
 //!   Instances are grouped per mesh and packed in their own module
 //!   (`instances`).
 //! - **Deterministic**: the same requests give the same bytes (fixed
@@ -138,11 +140,11 @@ pub struct RenderRequest<'a> {
     /// Each instance's dither mask, in the order of `instances`; empty:
     /// none masked (else exactly one per instance).
     pub dither: &'a [DitherMask],
-    /// Each instance's tint, in the order of `instances`: a linear-RGB
-    /// multiplier of its shaded colour (each channel in `[0, 1]` typical;
-    /// the product is clamped to 1). Empty: none tinted (else exactly one
-    /// per instance).
-    pub tint: &'a [[f32; 3]],
+    /// Each instance's surface colour, in the order of `instances`: linear
+    /// RGB in `[0, 1]`, replacing its mesh's vertex colours and texture,
+    /// lit as usual. Empty: every mesh keeps its own colours (else exactly
+    /// one per instance).
+    pub albedo: &'a [[f32; 3]],
     /// The light.
     pub lighting: Lighting,
     /// Background colour, sRGB8 (written to the image as is).
@@ -340,7 +342,7 @@ impl Renderer {
         let iattrs = wgpu::vertex_attr_array![
             3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
             7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 11 => Float32x2,
-            12 => Float32x3
+            12 => Float32x4
         ];
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("acuity lit"),

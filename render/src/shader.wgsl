@@ -2,8 +2,8 @@
 // ambient, times vertex colour, times the base-colour texture (a white
 // texel for untextured meshes). Both faces are lit. An instance's dither
 // range drops the fragments whose 4x4 Bayer threshold at the pixel lies
-// outside it (screen-door cross-fades between LODs). An instance's tint
-// multiplies its shaded colour (white: unchanged).
+// outside it (screen-door cross-fades between LODs). An instance's albedo
+// (rgb, and 1 in w when set) replaces vertex colour times texture.
 struct Frame {
     view_proj: mat4x4<f32>,
     light_dir: vec4<f32>,
@@ -26,7 +26,7 @@ struct VIn {
     @location(9) n2: vec4<f32>,
     @location(10) uv: vec2<f32>,
     @location(11) dither: vec2<f32>,
-    @location(12) tint: vec3<f32>,
+    @location(12) albedo: vec4<f32>,
 };
 struct VOut {
     @builtin(position) clip: vec4<f32>,
@@ -34,7 +34,7 @@ struct VOut {
     @location(1) color: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) @interpolate(flat) dither: vec2<f32>,
-    @location(4) @interpolate(flat) tint: vec3<f32>,
+    @location(4) @interpolate(flat) albedo: vec4<f32>,
 };
 
 @vertex
@@ -47,7 +47,7 @@ fn vs_main(v: VIn) -> VOut {
     o.color = v.color;
     o.uv = v.uv;
     o.dither = v.dither;
-    o.tint = v.tint;
+    o.albedo = v.albedo;
     return o;
 }
 
@@ -62,9 +62,9 @@ fn fs_main(i: VOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32
     var n = normalize(i.normal);
     if (!front) { n = -n; }
     let lambert = max(dot(n, frame.light_dir.xyz), 0.0);
-    let c = i.color * base * (frame.light.y + frame.light.x * lambert);
-    let shaded = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return vec4<f32>(clamp(shaded * i.tint, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
+    let surface = mix(i.color * base, i.albedo.rgb, i.albedo.w);
+    let c = surface * (frame.light.y + frame.light.x * lambert);
+    return vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
 }
 
 // The 4x4 ordered-dither threshold of a pixel, in k / 16 for k = 0..15:

@@ -42,7 +42,7 @@ fn draw(r: &Renderer, size: [u32; 2], instances: &[(MeshId, DitherMask)]) -> Vec
         view_proj: Mat4::IDENTITY,
         instances: &inst,
         dither: &dither,
-        tint: &[],
+        albedo: &[],
         lighting: LIGHT,
         background_srgb: BACKGROUND,
     })
@@ -213,7 +213,7 @@ fn a_mask_count_other_than_none_or_one_per_instance_is_an_error() {
             view_proj: Mat4::IDENTITY,
             instances: &[(id, Mat4::IDENTITY), (id, Mat4::IDENTITY)],
             dither: &[DitherMask::ALL],
-            tint: &[],
+            albedo: &[],
             lighting: LIGHT,
             background_srgb: BACKGROUND,
         })

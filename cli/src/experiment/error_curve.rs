@@ -187,8 +187,10 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         } else {
             String::new()
         };
+        // FLIP is not measured with `--metric fvvdp` alone: "-", not NaN.
+        let flip = |v: f64| text(v.is_finite().then_some(v), &|v| format!("{v:.4}"), "-");
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>8.4} {:>8.4} {:>10}{jod_cols}",
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -196,8 +198,8 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.triangles,
             s.mean_lod,
             s.switches_per_s,
-            s.flip_mean,
-            s.flip_p95,
+            flip(s.flip_mean),
+            flip(s.flip_p95),
             text(ratio, &|r| format!("{r:.2}x"), "-")
         );
     }

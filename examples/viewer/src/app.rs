@@ -1,6 +1,6 @@
 //! The viewer's window loop: each frame moves the clock, lets the shown
 //! policy choose every instance's LOD, renders with the scene player's
-//! [`World`] (tinted per LOD when the overlay is on) and presents the
+//! [`World`] (coloured per LOD when the overlay is on) and presents the
 //! frame read back from the renderer through softbuffer.
 //!
 //! A frame is rendered when the path moves or a key changes what is shown;
@@ -211,7 +211,7 @@ impl Viewer {
         let started = Instant::now();
         runner.choose(world, &view, dt_s as f32, &mut self.lods)?;
         let palette: &[[f32; 3]] = if self.overlay { &OVERLAY_PALETTE } else { &[] };
-        let out = world.render_tinted(&view, &self.lods, runner.fades(), palette)?;
+        let out = world.render_coloured(&view, &self.lods, runner.fades(), palette)?;
         runner.observe(started.elapsed().as_secs_f64(), out.triangles);
         let full_triangles = self
             .world

@@ -3,10 +3,9 @@
 //! nearest-neighbour into the window, centred with black bars where the
 //! aspect ratios differ.
 
-/// The LOD overlay's tints, finest LOD first (LOD 4 and coarser take the
-/// last): linear-RGB multipliers of each object's shaded colour
-/// ([`acuity_render::RenderRequest::tint`]), saturated so that a grey
-/// object shows the hue.
+/// The LOD overlay's colours, finest LOD first (LOD 4 and coarser take the
+/// last): linear RGB replacing each object's own colours, lit as usual
+/// ([`acuity_render::RenderRequest::albedo`]).
 pub const OVERLAY_PALETTE: [[f32; 3]; 5] = [
     [0.10, 1.00, 0.10], // LOD 0: green
     [1.00, 0.85, 0.05], // LOD 1: yellow
