@@ -367,18 +367,25 @@ fn the_budget_counts_biases_and_ranges() {
     }
 }
 
-fn fading(fade_time_s: f32) -> (Selector, ObjectId) {
+/// A selector with `settings`, velocity off, and one object 3 m ahead.
+fn one_ahead(settings: SelectorSettings) -> (Selector, ObjectId) {
     let settings = SelectorSettings {
-        fade_time_s,
         components: Components {
             velocity: false,
             ..Components::ALL
         },
-        ..Default::default()
+        ..settings
     };
     let (mut sel, profiles) = selector(settings);
     let id = ahead(&mut sel, profiles[0], 3.0);
     (sel, id)
+}
+
+fn fading(fade_time_s: f32) -> (Selector, ObjectId) {
+    one_ahead(SelectorSettings {
+        fade_time_s,
+        ..Default::default()
+    })
 }
 
 /// The fade time of the fade tests, s: with steps of a power of two times
@@ -640,17 +647,11 @@ fn biased_diagnostics_on_rayon_match_one_thread() {
 /// A selector whose switches to coarser LODs wait up to `wait_s` for a
 /// saccade, with one object 3 m ahead, settled.
 fn deferring(wait_s: f32) -> (Selector, ObjectId) {
-    let settings = SelectorSettings {
+    let (mut sel, id) = one_ahead(SelectorSettings {
         defer_coarsening_s: wait_s,
         track_changes: true,
-        components: Components {
-            velocity: false,
-            ..Components::ALL
-        },
         ..Default::default()
-    };
-    let (mut sel, profiles) = selector(settings);
-    let id = ahead(&mut sel, profiles[0], 3.0);
+    });
     settle(&mut sel, id, 3.0);
     (sel, id)
 }
