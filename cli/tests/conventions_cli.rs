@@ -3,27 +3,12 @@
 //! while running, the JSON twin of the summary CSV, and plots as PNG and
 //! SVG.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("conventions_cli")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use common::{acuity, stderr};
 
-fn acuity(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_acuity"))
-        .args(args)
-        .output()
-        .expect("run acuity")
-}
-
-fn stderr(o: &std::process::Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+fn scratch(name: &str) -> std::path::PathBuf {
+    common::scratch("conventions_cli", name)
 }
 
 #[test]
@@ -145,35 +130,22 @@ fn plot_writes_png_and_svg_and_skips_rows_without_numbers() {
     );
 }
 
-const TINY: &str = r#"
-[display]
-resolution = [96, 72]
-fov_deg = [43.6, 33.4]
-
-[[objects]]
-name = "rocks"
-procedural = { kind = "rock", triangles = [400, 100] }
-copies = { count = 4, seed = 3, volume_min = [-4.0, -1.0, -20.0], volume_max = [4.0, 1.0, -3.0], random_rotation = true, scale = 0.5 }
-
-[camera]
-duration_s = 1.0
-forward_speed_m_per_s = 4.0
-start = { position = [0.0, 0.0, 0.0], yaw_deg = 0.0, pitch_deg = 0.0 }
-
-[gaze]
-mode = "screen_centre"
-
-[run]
-target_hz = 60
-frames = 3
-flip_every_n_frames = 0
-"#;
+/// The shared tiny scene, smaller still: 96x72 pixels, 4 rocks of two
+/// LODs, 3 frames, no FLIP.
+fn tiny() -> String {
+    common::TINY_SCENE
+        .replace("[160, 120]", "[96, 72]")
+        .replace("[800, 200, 60]", "[400, 100]")
+        .replace("count = 12", "count = 4")
+        .replace("frames = 4", "frames = 3")
+        .replace("flip_every_n_frames = 2", "flip_every_n_frames = 0")
+}
 
 #[test]
 fn a_run_writes_its_summary_as_json_beside_the_csv_and_plots_as_svg() {
     let dir = scratch("summary");
     let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    std::fs::write(&scene, tiny()).unwrap();
     let out = dir.join("out");
     let o = acuity(&[
         "run",

@@ -4,8 +4,10 @@
 //! positions, out-of-range texture references) exits with 1 or 2 and a
 //! message naming the file, never a panic (101).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::Arc;
 
 use acuity_preprocess::lods::generate_lods;
@@ -23,30 +25,13 @@ const FAST: [&str; 6] = [
 ];
 
 fn temp_dir(test: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("gltf_cli")
-        .join(test);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("gltf_cli", test)
 }
 
 fn preprocess(path: &Path, extra: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_acuity"))
-        .arg("preprocess")
-        .arg(path)
-        .args(FAST)
-        .args(extra)
-        .output()
-        .expect("cannot start the acuity binary");
-    eprintln!(
-        "$ acuity preprocess {} -- exit {:?}\n{}{}",
-        path.display(),
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    let path = path.to_str().unwrap();
+    let args: Vec<&str> = [&["preprocess", path][..], &FAST, extra].concat();
+    common::acuity_logged(&args)
 }
 
 #[test]

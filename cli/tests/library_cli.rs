@@ -3,9 +3,11 @@
 //! for byte, a broken asset fails alone, `--check` is the merge step, and
 //! `--csv` writes the summary.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::Arc;
 
 use acuity_preprocess::render::gltf_write::write_glb_single;
@@ -24,29 +26,12 @@ const FAST: [&str; 8] = [
 ];
 
 fn temp_dir(test: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("library_cli")
-        .join(test);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("library_cli", test)
 }
 
 fn preprocess(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_acuity"))
-        .arg("preprocess")
-        .args(args)
-        .args(FAST)
-        .output()
-        .expect("cannot start the acuity binary");
-    eprintln!(
-        "$ acuity preprocess {} -- exit {:?}\n{}{}",
-        args.join(" "),
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    let args: Vec<&str> = [&["preprocess"][..], args, &FAST].concat();
+    common::acuity_logged(&args)
 }
 
 /// A library of six assets (OBJ and glTF, one in a subfolder, one broken).

@@ -2,10 +2,14 @@
 //! folder (128 px, 6 viewpoints, so the suite stays fast on llvmpipe), and
 //! once on the real bunny at 256 px, 18 viewpoints.
 
+mod common;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::SystemTime;
+
+use common::stderr;
 
 use acuity::{
     Camera, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings, Tracker,
@@ -14,38 +18,16 @@ use glam::{DVec3, Quat};
 
 const FAST: [&str; 4] = ["--resolution", "128", "--viewpoints", "0"];
 
-/// A fresh, empty folder for one test.
 fn temp_dir(test: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("preprocess_cli")
-        .join(test);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("preprocess_cli", test)
 }
 
 fn acuity(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_acuity"))
-        .arg("preprocess")
-        .args(args)
-        .output()
-        .expect("cannot start the acuity binary");
-    eprintln!(
-        "$ acuity preprocess {}\n-- exit {:?}\n-- stdout\n{}-- stderr\n{}",
-        args.join(" "),
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    common::acuity_logged(&[&["preprocess"][..], args].concat())
 }
 
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// A lumpy UV sphere as OBJ text (`2 * lat * lon` triangles, some

@@ -1,47 +1,15 @@
 //! `acuity run` end to end on a tiny scene (160x120, 12 objects, a few
 //! frames, coarse profiles), and its error on a broken object.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use common::{TINY_SCENE as TINY, acuity};
+
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("run_cli")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-const TINY: &str = r#"
-[display]
-resolution = [160, 120]
-fov_deg = [43.6, 33.4]
-
-[[objects]]
-name = "rocks"
-procedural = { kind = "rock", triangles = [800, 200, 60] }
-copies = { count = 12, seed = 3, volume_min = [-4.0, -1.0, -20.0], volume_max = [4.0, 1.0, -3.0], random_rotation = true, scale = 0.5 }
-
-[camera]
-duration_s = 1.0
-forward_speed_m_per_s = 4.0
-start = { position = [0.0, 0.0, 0.0], yaw_deg = 0.0, pitch_deg = 0.0 }
-
-[gaze]
-mode = "screen_centre"
-
-[run]
-target_hz = 60
-frames = 4
-flip_every_n_frames = 2
-"#;
-
-fn acuity(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_acuity"))
-        .args(args)
-        .output()
-        .expect("run acuity")
+    common::scratch("run_cli", name)
 }
 
 #[test]
