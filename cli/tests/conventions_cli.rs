@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{acuity, stderr};
+use common::{acuity, coarse, stderr};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     common::scratch("conventions_cli", name)
@@ -147,19 +147,14 @@ fn a_run_writes_its_summary_as_json_beside_the_csv_and_plots_as_svg() {
     let scene = dir.join("tiny.toml");
     std::fs::write(&scene, tiny()).unwrap();
     let out = dir.join("out");
-    let o = acuity(&[
+    let o = acuity(&coarse(&[
         "run",
         scene.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--quiet",
         "--policies",
         "full,screen_size,acuity_all",
-        "--profile-resolution",
-        "64",
-        "--profile-viewpoints",
-        "0",
-    ]);
+    ]));
     assert!(o.status.success(), "{}", stderr(&o));
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();

@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{TINY_SCENE as TINY, acuity};
+use common::{COARSE, TINY_SCENE as TINY, acuity, coarse};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("run_cli", name)
@@ -18,17 +18,12 @@ fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
     let scene = dir.join("tiny.toml");
     std::fs::write(&scene, TINY).unwrap();
     let out = dir.join("out");
-    let o = acuity(&[
+    let o = acuity(&coarse(&[
         "run",
         scene.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--quiet",
-        "--profile-resolution",
-        "64",
-        "--profile-viewpoints",
-        "0",
-    ]);
+    ]));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "stderr: {stderr}");
     let table = String::from_utf8_lossy(&o.stdout);
@@ -99,18 +94,14 @@ fn cross_fades_draw_the_lod_going_as_well_and_leave_the_choices_alone() {
             scene.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
-            "--quiet",
             "--frames",
             "16",
             "--policies",
             "screen_size,acuity_all",
             "--cache-dir",
             dir.to_str().unwrap(),
-            "--profile-resolution",
-            "64",
-            "--profile-viewpoints",
-            "0",
         ];
+        args.extend(COARSE);
         args.extend_from_slice(extra);
         let o = acuity(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -146,19 +137,14 @@ fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
     );
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("out");
-    let o = acuity(&[
+    let o = acuity(&coarse(&[
         "run",
         scene.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--quiet",
-        "--profile-resolution",
-        "64",
-        "--profile-viewpoints",
-        "0",
         "--policies",
         "full,screen_size,acuity_all",
-    ]);
+    ]));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     for line in csv.lines().skip(1) {
@@ -318,19 +304,14 @@ fn work_that_cannot_fit_in_memory_is_refused_before_it_starts() {
     std::fs::write(&s, scene).unwrap();
     let cache = dir.join("cache");
     let o = acuity_within(
-        &[
+        &coarse(&[
             "run",
             s.to_str().unwrap(),
             "--cache-dir",
             cache.to_str().unwrap(),
-            "--quiet",
-            "--profile-resolution",
-            "64",
-            "--profile-viewpoints",
-            "0",
             "--policies",
             "full,screen_size",
-        ],
+        ]),
         300,
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -389,19 +370,14 @@ fn unusable_cached_profiles_are_replaced_with_a_warning_and_io_errors_print_once
         .unwrap();
     assert!(made.success());
     let o = acuity_within(
-        &[
+        &coarse(&[
             "run",
             s.to_str().unwrap(),
             "--out",
             dir.join("out").to_str().unwrap(),
             "--cache-dir",
             cache.to_str().unwrap(),
-            "--profile-resolution",
-            "64",
-            "--profile-viewpoints",
-            "0",
-            "--quiet",
-        ],
+        ]),
         300,
     );
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -437,7 +413,7 @@ fn a_positive_scale_too_small_for_f32_is_the_coarsest_not_full_detail() {
     )
     .unwrap();
     let out = dir.join("out");
-    let o = acuity(&[
+    let o = acuity(&coarse(&[
         "run",
         s.to_str().unwrap(),
         "--out",
@@ -446,12 +422,7 @@ fn a_positive_scale_too_small_for_f32_is_the_coarsest_not_full_detail() {
         "full,acuity_size",
         "--cache-dir",
         dir.join("cache").to_str().unwrap(),
-        "--profile-resolution",
-        "64",
-        "--profile-viewpoints",
-        "0",
-        "--quiet",
-    ]);
+    ]));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let tris = |policy: &str| -> f64 {
@@ -468,13 +439,6 @@ fn experiments_run_small_and_write_their_files() {
     std::fs::write(&scene, TINY).unwrap();
     let s = scene.to_str().unwrap();
     let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
-    let profile = [
-        "--profile-resolution",
-        "64",
-        "--profile-viewpoints",
-        "0",
-        "--quiet",
-    ];
     let runs: [(Vec<String>, &str, &str); 3] = [
         (
             [
@@ -538,7 +502,7 @@ fn experiments_run_small_and_write_their_files() {
         ),
     ];
     for (mut args, folder, csv) in runs {
-        args.extend(profile.iter().map(|x| x.to_string()));
+        args.extend(COARSE.iter().map(|x| x.to_string()));
         let refs: Vec<&str> = args.iter().map(String::as_str).collect();
         let o = acuity(&refs);
         assert!(
@@ -613,14 +577,6 @@ fn check_sequence(dir: &Path, frames: u32) -> Vec<(u32, f64, f64)> {
     );
     rows
 }
-
-const COARSE: [&str; 5] = [
-    "--profile-resolution",
-    "64",
-    "--profile-viewpoints",
-    "0",
-    "--quiet",
-];
 
 #[test]
 fn dump_frames_writes_every_sequence_with_gaze_and_display() {

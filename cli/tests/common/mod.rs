@@ -70,3 +70,17 @@ pub fn acuity_logged(args: &[&str]) -> Output {
     );
     out
 }
+
+/// Flags for coarse, fast profiles (64 px, 6 viewpoints) and no progress.
+pub const COARSE: [&str; 5] = [
+    "--profile-resolution",
+    "64",
+    "--profile-viewpoints",
+    "0",
+    "--quiet",
+];
+
+/// `args` followed by [`COARSE`].
+pub fn coarse<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    [args, &COARSE].concat()
+}
