@@ -23,12 +23,12 @@ impl Selector {
     /// The objects whose selection (LOD or culled) changed in the last
     /// `select*` call, in no particular order, with
     /// [`SelectorSettings::track_changes`](super::SelectorSettings) on (or
-    /// cross-fades, or switches waiting for saccades); empty otherwise. Objects added, or given another
-    /// profile, since the call before count as culled before: they are
-    /// listed unless culled now. An object whose selection did not change
-    /// is not in it; one removed since the call still is (check with
-    /// [`contains`](Self::contains)). Its storage is reused from frame to
-    /// frame.
+    /// cross-fades, or switches waiting for saccades); empty otherwise.
+    /// Objects added, or given another profile, since the call before
+    /// count as culled before: they are listed unless culled now. An
+    /// object whose selection did not change is not in it; one removed
+    /// since the call still is (check with [`contains`](Self::contains)).
+    /// Its storage is reused from frame to frame.
     pub fn changed(&self) -> &[ObjectId] {
         &self.changed
     }
