@@ -42,9 +42,6 @@ use winit::event_loop::EventLoop;
 use crate::app::{ViewSettings, Viewer};
 use crate::args::{Command, Options, USAGE};
 
-/// The policies Tab and P cycle through, in this order.
-pub const POLICIES: [Policy; 9] = Policy::ALL;
-
 fn main() -> ExitCode {
     let result = args::parse(std::env::args_os().skip(1)).and_then(|command| match command {
         Command::Help => {
@@ -82,7 +79,8 @@ fn view(options: Options) -> anyhow::Result<()> {
         "keys: Tab/P policy, O overlay, [ ] halve/double s, Space pause, \
          Left/Right step while paused, Esc quit"
     );
-    let first_policy = POLICIES
+    // Tab and P cycle through every policy, in `Policy::ALL`'s order.
+    let first_policy = Policy::ALL
         .iter()
         .position(|&p| p == options.policy)
         .unwrap_or(0);
@@ -90,7 +88,7 @@ fn view(options: Options) -> anyhow::Result<()> {
         world,
         ViewSettings {
             first_policy,
-            policies: POLICIES.to_vec(),
+            policies: Policy::ALL.to_vec(),
             overlay: options.overlay,
             frames: options.frames,
             screenshot: options.screenshot,
