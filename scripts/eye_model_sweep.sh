@@ -7,7 +7,7 @@
 # (fixation held on a world point, the default) and once with them fixed in
 # the head (fixation at the modelled gaze, the screen centre). Each variant
 # runs `acuity experiment error` at s = 1 for every acuity component set,
-# with screen size at two biases, scored by FovVideoVDP; the rows are
+# with screen size at the given biases, scored by FovVideoVDP; the rows are
 # gathered into OUT/sweep.csv (rate, eyes, policy, knob, triangles, share of
 # full detail, JOD, LOD switches per second), and plots of share and JOD
 # against the rate (OUT/sweep_*.png).
@@ -15,14 +15,25 @@
 # Usage: scripts/eye_model_sweep.sh [OUT]   (default out/eye-model-sweep)
 # Needs a release build (`cargo build --release`) and ACUITY_PYTHON
 # pointing at a Python with pyfvvdp. About 1 min per variant on 2 cores.
+#
+# Environment overrides (defaults in brackets): RESOLUTION [360x400],
+# RATES [0 30 60 120 200], EYES [counter_rotate fixed_in_head],
+# BIASES [8,32], POLICIES [acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all].
+# At a headset's pixel density, e.g. RESOLUTION=2700x3000 (30 px/deg),
+# FovVideoVDP on the CPU takes about 8 min per policy and variant.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 acuity=${ACUITY:-target/release/acuity}
 out=${1:-out/eye-model-sweep}
+resolution=${RESOLUTION:-360x400}
+rates=${RATES:-0 30 60 120 200}
+eyes_modes=${EYES:-counter_rotate fixed_in_head}
+biases=${BIASES:-8,32}
+policies=${POLICIES:-acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all}
 mkdir -p "$out/scenes"
 echo "rate_deg_per_s,eyes,policy,knob,triangles,share,jod,lod_switches_per_s" > "$out/sweep.csv"
-for rate in 0 30 60 120 200; do
-  for eyes in counter_rotate fixed_in_head; do
+for rate in $rates; do
+  for eyes in $eyes_modes; do
     name="vr_${rate}_${eyes}"
     scene="$out/scenes/$name.toml"
     counter=$([ "$eyes" = counter_rotate ] && echo true || echo false)
@@ -32,9 +43,8 @@ for rate in 0 30 60 120 200; do
         -e "s|mesh = \"../models/|mesh = \"$PWD/models/|" \
         -e "s|^tracker = \"head\".*|tracker = \"head\"\neyes_counter_rotate = $counter|" \
         scenes/vr_sweep.toml > "$scene"
-    "$acuity" experiment error --scene "$scene" --resolution 360x400 --frames 68 \
-      --biases 8,32 --scales 1 \
-      --acuity-policies acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all \
+    "$acuity" experiment error --scene "$scene" --resolution "$resolution" --frames 68 \
+      --biases "$biases" --scales 1 --acuity-policies "$policies" \
       --metric fvvdp --cache-dir scenes/.acuity-cache --out "$out/$name" --quiet
     awk -F, -v rate="$rate" -v eyes="$eyes" '
       NR == 1 { next }
@@ -49,7 +59,7 @@ for rate in 0 30 60 120 200; do
   done
 done
 column -s, -t "$out/sweep.csv"
-for eyes in counter_rotate fixed_in_head; do
+for eyes in $eyes_modes; do
   for y in share jod; do
     "$acuity" plot "$out/sweep.csv" --x rate_deg_per_s --y "$y" --group policy,knob \
       --filter "eyes=$eyes" --title "$y, eyes $eyes" --out "$out/sweep_${y}_$eyes.png"
