@@ -4,8 +4,11 @@
 # `scenes/vr_sweep.toml` cut to a 0.75 s yaw sweep of amplitude 30 deg at a
 # constant 0, 30, 60, 120 or 200 deg/s (360x400 pixels over 90x100 deg,
 # 90 Hz, head tracking, 68 frames), once with the eyes counter-rotating
-# (fixation held on a world point, the default) and once with them fixed in
-# the head (fixation at the modelled gaze, the screen centre). Each variant
+# (the default rule) and once with them fixed in the head, the metric
+# foveated at the modelled gaze (the screen centre) in both. EYES=hold_bunny
+# adds a third: the eyes counter-rotate and hold the bunny, the selector
+# still models the screen centre, and the metric foveates on the bunny
+# (`[gaze] viewer_object`). Each variant
 # runs `acuity experiment error` at s = 1 for every acuity component set,
 # with screen size at the given biases, scored by FovVideoVDP; the rows are
 # gathered into OUT/sweep.csv (rate, eyes, policy, knob, triangles, share of
@@ -17,7 +20,7 @@
 # pointing at a Python with pyfvvdp. About 1 min per variant on 2 cores.
 #
 # Environment overrides (defaults in brackets): RESOLUTION [360x400],
-# RATES [0 30 60 120 200], EYES [counter_rotate fixed_in_head],
+# RATES [0 30 60 120 200], EYES [counter_rotate fixed_in_head; or hold_bunny],
 # BIASES [8,32], POLICIES [acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all].
 # At a headset's pixel density, e.g. RESOLUTION=2700x3000 (30 px/deg),
 # FovVideoVDP on the CPU takes about 8 min per policy and variant.
@@ -36,12 +39,13 @@ for rate in $rates; do
   for eyes in $eyes_modes; do
     name="vr_${rate}_${eyes}"
     scene="$out/scenes/$name.toml"
-    counter=$([ "$eyes" = counter_rotate ] && echo true || echo false)
+    counter=$([ "$eyes" = fixed_in_head ] && echo false || echo true)
+    viewer=$([ "$eyes" = hold_bunny ] && echo '\nviewer_object = "bunny"' || true)
     sweep="yaw_sweep = { amplitude_deg = 30.0, rate_deg_per_s = $rate.0 }"
     sed -e "s|^yaw_sweep = .*|$sweep|" \
         -e "s|^duration_s = 8.0|duration_s = 0.75|" \
         -e "s|mesh = \"../models/|mesh = \"$PWD/models/|" \
-        -e "s|^tracker = \"head\".*|tracker = \"head\"\neyes_counter_rotate = $counter|" \
+        -e "s|^tracker = \"head\".*|tracker = \"head\"\neyes_counter_rotate = $counter$viewer|" \
         scenes/vr_sweep.toml > "$scene"
     "$acuity" experiment error --scene "$scene" --resolution "$resolution" --frames 68 \
       --biases "$biases" --scales 1 --acuity-policies "$policies" \

@@ -208,8 +208,13 @@ pub struct FrameView {
     pub eye_m: DVec3,
     /// Camera orientation, camera-to-world.
     pub orientation: DQuat,
-    /// Gaze direction in camera space (unit, -Z is the display centre).
+    /// Gaze direction in camera space (unit, -Z is the display centre),
+    /// as the selector models it.
     pub gaze_camera: DVec3,
+    /// Where the viewer's eyes actually point, camera space (unit): the
+    /// error metrics' fixation; `gaze_camera` unless the scene says
+    /// otherwise ([`crate::gaze::GazeSpec::viewer`]).
+    pub fixation_camera: DVec3,
 }
 
 impl World {
@@ -368,8 +373,15 @@ impl World {
         }
     }
 
-    /// Camera and gaze at simulated time `t_s` (frame `index`).
-    pub fn view_at(&self, index: u32, t_s: f64, gaze: &crate::gaze::Gaze) -> FrameView {
+    /// Camera and gaze at simulated time `t_s` (frame `index`): `gaze` as
+    /// the selector models it, `viewer` where the eyes actually are.
+    pub fn view_at(
+        &self,
+        index: u32,
+        t_s: f64,
+        gaze: &crate::gaze::Gaze,
+        viewer: &crate::gaze::Gaze,
+    ) -> FrameView {
         let (eye_m, orientation) = self.scene.camera.sample(t_s);
         FrameView {
             index,
@@ -377,6 +389,7 @@ impl World {
             eye_m,
             orientation,
             gaze_camera: gaze.sample(t_s),
+            fixation_camera: viewer.sample(t_s),
         }
     }
 

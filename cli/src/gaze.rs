@@ -113,6 +113,13 @@ pub struct GazeSpec {
     /// for a saccade, s (`defer_coarsening_s`; default 0: switches at once;
     /// see [`acuity::SelectorSettings::defer_coarsening_s`]).
     pub defer_coarsening_s: f64,
+    /// Without an eye tracker: where the viewer's eyes actually are, when
+    /// the scene says (`viewer_object`, `viewer_copy`: a
+    /// [`GazeMode::Track`]). The selector cannot know it and keeps modelling
+    /// the gaze from [`mode`](Self::mode); the error metrics take it as the
+    /// fixation (FovVideoVDP foveates there, and the dumped `gaze.csv`
+    /// holds it). `None`: the viewer looks where the gaze is modelled.
+    pub viewer: Option<GazeMode>,
 }
 
 impl Default for GazeSpec {
@@ -124,6 +131,7 @@ impl Default for GazeSpec {
             eyes_counter_rotate: true,
             saccade_threshold_deg_per_s: None,
             defer_coarsening_s: 0.0,
+            viewer: None,
         }
     }
 }

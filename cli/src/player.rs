@@ -133,7 +133,10 @@ pub struct PolicyRun {
 /// Plays a loaded world under policies, sharing full-detail references.
 pub struct Player<'w> {
     world: &'w World,
+    /// The gaze the selector models.
     gaze: GazePath,
+    /// Where the viewer's eyes actually are (the metrics' fixation).
+    viewer: GazePath,
     settings: PlaySettings,
     full: PolicyRunner,
     references: HashMap<u32, Vec<u8>>,
@@ -154,6 +157,7 @@ impl<'w> Player<'w> {
         let mut p = Player {
             world,
             gaze: world.scene.gaze(),
+            viewer: world.scene.viewer_gaze(),
             settings,
             full,
             references: HashMap::new(),
@@ -179,8 +183,12 @@ impl<'w> Player<'w> {
     }
 
     fn view(&self, k: u32) -> FrameView {
-        self.world
-            .view_at(k, f64::from(k) * self.settings.dt_s, &self.gaze)
+        self.world.view_at(
+            k,
+            f64::from(k) * self.settings.dt_s,
+            &self.gaze,
+            &self.viewer,
+        )
     }
 
     /// The full-detail image of frame `k` (rendered once, then cached).
@@ -318,7 +326,7 @@ impl<'w> Player<'w> {
         };
         for k in 0..self.settings.frames {
             let view = self.view(k);
-            let gaze_px = dump.as_ref().map(|d| d.gaze_pixel(view.gaze_camera));
+            let gaze_px = dump.as_ref().map(|d| d.gaze_pixel(view.fixation_camera));
             for j in 0..policies.len() {
                 let p = (j + k as usize) % n_pol;
                 let (runner, run) = (&mut runners[p], &mut runs[p]);

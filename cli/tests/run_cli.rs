@@ -639,6 +639,57 @@ fn dump_frames_writes_every_sequence_with_gaze_and_display() {
 }
 
 #[test]
+fn the_viewers_object_moves_the_dumped_fixation_and_not_the_selection() {
+    let dir = scratch("viewer_object");
+    let run = |name: &str, gaze: &str| {
+        let scene = dir.join(format!("{name}.toml"));
+        let text = TINY.replace("mode = \"screen_centre\"", gaze);
+        std::fs::write(&scene, text).unwrap();
+        let dump = dir.join(name);
+        let out = dir.join(format!("{name}-out"));
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "3",
+            "--policies",
+            "acuity_size",
+            "--dump-frames",
+            dump.to_str().unwrap(),
+        ];
+        args.extend(COARSE);
+        let o = acuity(&args);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        dump
+    };
+    let modelled = run("modelled", "mode = \"screen_centre\"\ntracker = \"head\"");
+    let viewer = run(
+        "viewer",
+        "mode = \"screen_centre\"\ntracker = \"head\"\nviewer_object = \"rocks\"\nviewer_copy = 2",
+    );
+    let tracked = run(
+        "tracked",
+        "mode = \"track\"\nobject = \"rocks\"\ncopy = 2\ntracker = \"head\"",
+    );
+    let gaze = |dump: &Path| check_sequence(&dump.join("acuity_size_1"), 3);
+    // The fixation is the rock's, as if the selector tracked it...
+    assert_eq!(gaze(&viewer), gaze(&tracked));
+    assert_ne!(gaze(&viewer), gaze(&modelled));
+    // ...while the selection is the modelled gaze's: the same frames.
+    for k in 0..3 {
+        let frame =
+            |dump: &Path| std::fs::read(dump.join(format!("acuity_size_1/{k:04}.png"))).unwrap();
+        assert!(frame(&viewer) == frame(&modelled), "frame {k}");
+    }
+}
+
+#[test]
 fn fvvdp_without_a_python_is_a_clear_error() {
     let dir = scratch("fvvdp_no_python");
     std::fs::write(dir.join("s.toml"), TINY).unwrap();

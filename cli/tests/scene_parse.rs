@@ -485,3 +485,38 @@ point_deg = [1, 2]
         assert!(shown.contains("exactly"), "{to}: {shown}");
     }
 }
+
+#[test]
+fn the_viewers_object_is_read_without_an_eye_tracker_only() {
+    use acuity_cli::gaze::GazeMode;
+    let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.gaze.viewer, None);
+    let text = format!("{MINIMAL_SCENE}\n[gaze]\ntracker = \"head\"\nviewer_object = \"ball\"\n");
+    let scene = Scene::parse(&text, "head.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene.gaze.viewer,
+        Some(GazeMode::Track {
+            object: "ball".into(),
+            copy: 0
+        })
+    );
+    // The selector's gaze stays where the scene models it.
+    assert_eq!(scene.gaze.mode, GazeMode::ScreenCentre);
+    for (field, text) in [
+        ("gaze.viewer_object", text.replace("\"head\"", "\"eye\"")),
+        (
+            "gaze.viewer_object",
+            text.replace("viewer_object = \"ball\"", "viewer_object = \"cube\""),
+        ),
+        ("gaze.viewer_copy", format!("{text}viewer_copy = 1\n")),
+        (
+            "gaze.viewer_copy",
+            text.replace("viewer_object = \"ball\"", "viewer_copy = 0"),
+        ),
+    ] {
+        let err = Scene::parse(&text, "bad.toml")
+            .expect_err(field)
+            .to_string();
+        assert!(err.contains(field), "{field}: {err}");
+    }
+}

@@ -43,6 +43,8 @@
 //! eye_error_deg = 1.0                # only with tracker = "eye"
 //! saccade_threshold_deg_per_s = 180  # only with tracker = "eye"; default: no saccade rule
 //! defer_coarsening_s = 0.5           # only with tracker = "eye": coarser LODs wait for a saccade
+//! viewer_object = "bunny"            # not with tracker = "eye": where the eyes really are, for
+//! viewer_copy = 0                    #   the error metrics (the selector still models `mode`)
 //!
 //! [run]                              # optional; defaults shown in RunSpec
 //! target_hz = 60
@@ -557,16 +559,27 @@ impl Scene {
     }
 
     /// The evaluated gaze (a tracked object resolved to its instance's
-    /// position).
+    /// position): where the selector models it.
     pub fn gaze(&self) -> Gaze {
-        let tracked = match &self.gaze.mode {
+        self.evaluate(&self.gaze.mode)
+    }
+
+    /// Where the viewer's eyes actually are, evaluated: the scene's
+    /// [`GazeSpec::viewer`] if it gives one, else [`Scene::gaze`]. The
+    /// error metrics' fixation.
+    pub fn viewer_gaze(&self) -> Gaze {
+        self.evaluate(self.gaze.viewer.as_ref().unwrap_or(&self.gaze.mode))
+    }
+
+    fn evaluate(&self, mode: &GazeMode) -> Gaze {
+        let tracked = match mode {
             GazeMode::Track { object, copy } => self
                 .object(object)
                 .and_then(|o| o.placement.instance(*copy as usize))
                 .map(|p| p.position_m),
             _ => None,
         };
-        Gaze::new(&self.gaze.mode, self.camera.clone(), tracked)
+        Gaze::new(mode, self.camera.clone(), tracked)
     }
 
     /// Total number of object instances.

@@ -212,23 +212,7 @@ impl Ctx<'_> {
                         "missing: mode = \"track\" needs object = \"<name>\"",
                     ));
                 };
-                let Some(obj) = objects.iter().find(|o| o.name == object) else {
-                    let known: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
-                    return Err(self.invalid(
-                        "gaze.object",
-                        format!("no object named {object:?} (objects: {known:?})"),
-                    ));
-                };
-                let copy = g.copy.unwrap_or(0);
-                if copy as usize >= obj.placement.count() {
-                    return Err(self.invalid(
-                        "gaze.copy",
-                        format!(
-                            "object {object:?} has {} instance(s); copy {copy} does not exist",
-                            obj.placement.count()
-                        ),
-                    ));
-                }
+                let copy = self.instance(objects, "gaze.object", "gaze.copy", &object, g.copy)?;
                 GazeMode::Track { object, copy }
             }
         };
@@ -285,6 +269,28 @@ impl Ctx<'_> {
                 ));
             }
         }
+        if g.viewer_copy.is_some() && g.viewer_object.is_none() {
+            return Err(self.invalid("gaze.viewer_copy", "needs viewer_object = \"<name>\""));
+        }
+        let viewer = match g.viewer_object {
+            Some(_) if g.tracker == Tracker::Eye => {
+                return Err(self.invalid(
+                    "gaze.viewer_object",
+                    "not used with tracker = \"eye\" (an eye tracker reports where the viewer looks)",
+                ));
+            }
+            Some(object) => {
+                let copy = self.instance(
+                    objects,
+                    "gaze.viewer_object",
+                    "gaze.viewer_copy",
+                    &object,
+                    g.viewer_copy,
+                )?;
+                Some(GazeMode::Track { object, copy })
+            }
+            None => None,
+        };
         Ok(GazeSpec {
             mode,
             tracker: g.tracker,
@@ -292,7 +298,39 @@ impl Ctx<'_> {
             eyes_counter_rotate: g.eyes_counter_rotate.unwrap_or(true),
             saccade_threshold_deg_per_s: g.saccade_threshold_deg_per_s,
             defer_coarsening_s: g.defer_coarsening_s.unwrap_or(0.0),
+            viewer,
         })
+    }
+
+    /// The copy (default 0) of the object named `object` that a gaze
+    /// tracks, checked to exist; errors name `object_field` or
+    /// `copy_field`.
+    fn instance(
+        &self,
+        objects: &[ObjectSpec],
+        object_field: &str,
+        copy_field: &str,
+        object: &str,
+        copy: Option<u32>,
+    ) -> Res<u32> {
+        let Some(obj) = objects.iter().find(|o| o.name == object) else {
+            let known: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+            return Err(self.invalid(
+                object_field,
+                format!("no object named {object:?} (objects: {known:?})"),
+            ));
+        };
+        let copy = copy.unwrap_or(0);
+        if copy as usize >= obj.placement.count() {
+            return Err(self.invalid(
+                copy_field,
+                format!(
+                    "object {object:?} has {} instance(s); copy {copy} does not exist",
+                    obj.placement.count()
+                ),
+            ));
+        }
+        Ok(copy)
     }
 
     fn screen_point(&self, field: &str, p: [f64; 2]) -> Res<()> {

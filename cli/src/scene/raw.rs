@@ -168,6 +168,8 @@ pub(super) struct RawGaze {
     pub(super) eyes_counter_rotate: Option<bool>,
     pub(super) saccade_threshold_deg_per_s: Option<f64>,
     pub(super) defer_coarsening_s: Option<f64>,
+    pub(super) viewer_object: Option<String>,
+    pub(super) viewer_copy: Option<u32>,
 }
 
 #[derive(Deserialize)]

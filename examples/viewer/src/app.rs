@@ -200,7 +200,8 @@ impl Viewer {
         };
         self.last_frame = Some(now);
         let world = &self.world;
-        let view = world.view_at(self.frames_shown, tick.t_s, &self.gaze);
+        // No error metric runs here, so the fixation is the modelled gaze.
+        let view = world.view_at(self.frames_shown, tick.t_s, &self.gaze, &self.gaze);
         let dt_s = if self.chose_last == Some(self.active) {
             tick.dt_s
         } else {
