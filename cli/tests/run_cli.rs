@@ -643,7 +643,11 @@ fn the_viewers_object_moves_the_dumped_fixation_and_not_the_selection() {
     let dir = scratch("viewer_object");
     let run = |name: &str, gaze: &str| {
         let scene = dir.join(format!("{name}.toml"));
-        let text = TINY.replace("mode = \"screen_centre\"", gaze);
+        // Foveated screen size: a selection that depends on the gaze.
+        let text = TINY.replace("mode = \"screen_centre\"", gaze).replace(
+            "flip_every_n_frames = 2",
+            "flip_every_n_frames = 2\nscreen_size_foveated = true",
+        );
         std::fs::write(&scene, text).unwrap();
         let dump = dir.join(name);
         let out = dir.join(format!("{name}-out"));
@@ -655,7 +659,7 @@ fn the_viewers_object_moves_the_dumped_fixation_and_not_the_selection() {
             "--frames",
             "3",
             "--policies",
-            "acuity_size",
+            "screen_size",
             "--dump-frames",
             dump.to_str().unwrap(),
         ];
@@ -677,16 +681,19 @@ fn the_viewers_object_moves_the_dumped_fixation_and_not_the_selection() {
         "tracked",
         "mode = \"track\"\nobject = \"rocks\"\ncopy = 2\ntracker = \"head\"",
     );
-    let gaze = |dump: &Path| check_sequence(&dump.join("acuity_size_1"), 3);
+    let gaze = |dump: &Path| check_sequence(&dump.join("screen_size_1"), 3);
     // The fixation is the rock's, as if the selector tracked it...
     assert_eq!(gaze(&viewer), gaze(&tracked));
     assert_ne!(gaze(&viewer), gaze(&modelled));
-    // ...while the selection is the modelled gaze's: the same frames.
+    // ...while the selection is the modelled gaze's: the same frames,
+    // where the tracked gaze's selection differs.
+    let frame = |dump: &Path, k: u32| {
+        std::fs::read(dump.join(format!("screen_size_1/{k:04}.png"))).unwrap()
+    };
     for k in 0..3 {
-        let frame =
-            |dump: &Path| std::fs::read(dump.join(format!("acuity_size_1/{k:04}.png"))).unwrap();
-        assert!(frame(&viewer) == frame(&modelled), "frame {k}");
+        assert!(frame(&viewer, k) == frame(&modelled, k), "frame {k}");
     }
+    assert!((0..3).any(|k| frame(&tracked, k) != frame(&modelled, k)));
 }
 
 #[test]
