@@ -39,6 +39,10 @@ for rate in $rates; do
   for eyes in $eyes_modes; do
     name="vr_${rate}_${eyes}"
     scene="$out/scenes/$name.toml"
+    case "$eyes" in
+      counter_rotate | fixed_in_head | hold_bunny) ;;
+      *) echo "EYES: unknown mode $eyes (counter_rotate, fixed_in_head, hold_bunny)" >&2; exit 2 ;;
+    esac
     counter=$([ "$eyes" = fixed_in_head ] && echo false || echo true)
     viewer=$([ "$eyes" = hold_bunny ] && echo '\nviewer_object = "bunny"' || true)
     sweep="yaw_sweep = { amplitude_deg = 30.0, rate_deg_per_s = $rate.0 }"
