@@ -1,8 +1,8 @@
-//! Branch-free `f32` approximations of `asin`, `acos`, `log10` and `exp2`
-//! for the selection loop.
+//! Branch-free `f32` approximations of `asin`, `acos` and `log10` for the
+//! selection loop.
 //!
 //! The polynomials are Cephes' single-precision minimax fits (`asinf`,
-//! `logf`, `exp2f`); over their domains they stay within 2 ulp of the correctly
+//! `logf`); over their domains they stay within 2 ulp of the correctly
 //! rounded result (tested against `f64` in this module). The standard
 //! library's versions are exact but call out of line and cost about six
 //! times as much in the selection loop.
@@ -112,28 +112,6 @@ pub fn log10(x: f32) -> f32 {
     ln * LOG10_E
 }
 
-/// `2^y`. Domain: `y` in `[-126, 0]` (callers clamp into the model's
-/// range first); the result is then a normal `f32` in `[2^-126, 1]`.
-/// Straight-line code on plain bits: `y` is rounded to an integer by
-/// adding `1.5 * 2^23` (the integer lands in the low mantissa bits), which
-/// vectorises where a float-to-int conversion would not.
-#[inline(always)]
-pub fn exp2(y: f32) -> f32 {
-    const ROUNDER: f32 = 12_582_912.0;
-    let shifted = y + ROUNDER;
-    let f = y - (shifted - ROUNDER);
-    let p = ((((1.535_336_2e-4 * f + 1.339_887_4e-3) * f + 9.618_437e-3) * f + 5.550_332_5e-2) * f
-        + 2.402_264_8e-1)
-        * f
-        + 6.931_472e-1;
-    // The rounded exponent is `bits(shifted) - bits(ROUNDER)`; add the bias.
-    let exponent = shifted
-        .to_bits()
-        .wrapping_sub(ROUNDER.to_bits())
-        .wrapping_add(127);
-    (1.0 + p * f) * f32::from_bits(exponent << 23)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -194,24 +172,6 @@ mod tests {
         let err = max_ulp_error(log10, f64::log10, &xs);
         assert!(err <= 2.5, "log10 max error {err} ulp");
         assert_eq!(log10(1.0), 0.0);
-    }
-
-    #[test]
-    fn exp2_within_two_ulp_and_monotone_over_its_domain() {
-        let xs = sweep(-126.0, 0.0, 400_001);
-        let err = max_ulp_error(exp2, f64::exp2, &xs);
-        assert!(err <= 2.5, "exp2 max error {err} ulp");
-        let fine = sweep(-4.0, 0.0, 400_001);
-        for w in fine.windows(2) {
-            assert!(
-                exp2(w[0]) <= exp2(w[1]),
-                "exp2 falls between {} and {}",
-                w[0],
-                w[1]
-            );
-        }
-        assert_eq!(exp2(0.0), 1.0);
-        assert_eq!(exp2(-1.0), 0.5);
     }
 
     #[test]
