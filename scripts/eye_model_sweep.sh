@@ -34,7 +34,7 @@ eyes_modes=${EYES:-counter_rotate fixed_in_head}
 biases=${BIASES:-8,32}
 policies=${POLICIES:-acuity_size,acuity_size_ecc,acuity_size_vel,acuity_all}
 mkdir -p "$out/scenes"
-echo "rate_deg_per_s,eyes,policy,knob,triangles,share,jod,lod_switches_per_s" > "$out/sweep.csv"
+echo "rate_deg_per_s,eyes,policy,knob,triangles,share,jod,lod_switches_per_s,lod_reversals_per_s" > "$out/sweep.csv"
 for rate in $rates; do
   for eyes in $eyes_modes; do
     name="vr_${rate}_${eyes}"
@@ -61,7 +61,7 @@ for rate in $rates; do
       END {
         for (i = 2; i <= NR; i++) {
           split(rows[i], f, ",")
-          printf "%s,%s,%s,%s,%.0f,%.3f,%.3f,%.1f\n", rate, eyes, f[1], f[2], f[5], f[5] / full, f[11], f[7]
+          printf "%s,%s,%s,%s,%.0f,%.3f,%.3f,%.1f,%.1f\n", rate, eyes, f[1], f[2], f[5], f[5] / full, f[11], f[7], f[13]
         }
       }' "$out/$name/error.csv" >> "$out/sweep.csv"
   done

@@ -17,7 +17,8 @@
 //! - [`frames`]: the scene player's world (LODs on the GPU, profiles,
 //!   instances) and frame rendering; [`policy`]: the LOD policies;
 //!   [`crossfade`]: cross-fades of LODs chosen outside the runtime;
-//!   [`player`]: playing a world's frames under policies; [`report`]:
+//!   [`player`]: playing a world's frames under policies; [`switches`]:
+//!   counting LOD switches and flicker between frames; [`report`]:
 //!   summaries, tables, CSVs, plots and FLIP images of played runs;
 //!   [`flip`]: the FLIP error; [`dump`]: frame dumps and FovVideoVDP
 //!   scores of them; [`plot`]: line plots (PNG and SVG); [`run`]: `acuity
@@ -68,6 +69,7 @@ pub mod report;
 pub mod run;
 pub mod scene;
 pub mod screen_size;
+pub mod switches;
 pub mod terrain;
 pub mod terrain_render;
 pub mod thresholds;

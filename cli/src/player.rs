@@ -19,6 +19,7 @@ use crate::frames::{FrameView, World};
 use crate::gaze::Gaze as GazePath;
 use crate::policy::{PolicyRunner, fit_cost_model};
 use crate::scene::{MAX_FRAMES, Policy, Scene};
+use crate::switches::SwitchTracker;
 use acuity::CostModel;
 use indicatif::ProgressBar;
 
@@ -93,6 +94,9 @@ pub struct FrameRecord {
     pub mean_lod: f64,
     /// Instances drawn this frame and the frame before at different LODs.
     pub lod_switches: u32,
+    /// Of which reversals: switches back to the LOD left at the instance's
+    /// previous switch, within [`crate::switches::REVERSAL_WINDOW_S`].
+    pub lod_reversals: u32,
     /// The scale factor `s` used.
     pub scale: f32,
     /// The predictive scheduler's triangle budget, if any.
@@ -306,8 +310,7 @@ impl<'w> Player<'w> {
         let [w, h] = world.scene.display.resolution_px;
         let ppd = world.pixels_per_degree();
         let mut lods = std::mem::take(&mut self.lods);
-        // Each policy's choices of the frame before, to count LOD switches.
-        let mut before: Vec<Vec<Option<usize>>> = vec![Vec::new(); policies.len()];
+        let mut switches = vec![SwitchTracker::default(); policies.len()];
         let n_pol = policies.len().max(1);
         // A sequence per distinct name (a repeated configuration is dumped
         // once), and full detail's even when it is not played.
@@ -344,8 +347,7 @@ impl<'w> Player<'w> {
                 }
                 let frame_s = start.elapsed().as_secs_f64();
                 runner.observe(frame_s, out.triangles);
-                let lod_switches = lod_switches(&before[p], &lods);
-                before[p].clone_from(&lods);
+                let switched = switches[p].observe(view.t_s, &lods);
                 if let (Some(d), Some(g)) = (dump.as_mut(), gaze_px)
                     && dumped[p]
                 {
@@ -367,7 +369,8 @@ impl<'w> Player<'w> {
                     draw_calls: out.draw_calls,
                     drawn: drawn.len() as u32,
                     mean_lod,
-                    lod_switches,
+                    lod_switches: switched.switches,
+                    lod_reversals: switched.reversals,
                     scale: choice.scale,
                     triangle_budget: choice.triangle_budget,
                     flip_mean: None,
@@ -413,15 +416,6 @@ impl<'w> Player<'w> {
         }
         Ok(runs)
     }
-}
-
-/// Instances drawn in both frames whose LOD differs (`None`: culled).
-fn lod_switches(before: &[Option<usize>], now: &[Option<usize>]) -> u32 {
-    before
-        .iter()
-        .zip(now)
-        .filter(|(b, n)| b.is_some() && n.is_some() && b != n)
-        .count() as u32
 }
 
 /// Busy-waits until `until_s` seconds after `start`.

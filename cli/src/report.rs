@@ -49,9 +49,27 @@ pub struct Summary {
     /// LOD switches of drawn instances per second of simulated time
     /// (popping); NaN for a single frame.
     pub switches_per_s: f64,
+    /// Of which reversals per second (flicker, see [`crate::switches`]);
+    /// NaN for a single frame.
+    pub reversals_per_s: f64,
     /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
     /// identical); `None` unless scored ([`attach_jod`]).
     pub jod: Option<f64>,
+}
+
+/// A per-frame count's total over a run per second of simulated time from
+/// its first frame to its last; NaN for fewer than two frames.
+fn per_second(r: &PolicyRun, count: impl Fn(&FrameRecord) -> u32) -> f64 {
+    let span = match (r.frames.first(), r.frames.last()) {
+        (Some(a), Some(b)) => b.t_s - a.t_s,
+        _ => 0.0,
+    };
+    let total: u64 = r.frames.iter().map(|f| u64::from(count(f))).sum();
+    if span > 0.0 {
+        total as f64 / span
+    } else {
+        f64::NAN
+    }
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> f64 {
@@ -103,18 +121,8 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                     .count() as f64
                     / n,
                 mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
-                switches_per_s: {
-                    let span = match (r.frames.first(), r.frames.last()) {
-                        (Some(a), Some(b)) => b.t_s - a.t_s,
-                        _ => 0.0,
-                    };
-                    let total: u64 = r.frames.iter().map(|f| u64::from(f.lod_switches)).sum();
-                    if span > 0.0 {
-                        total as f64 / span
-                    } else {
-                        f64::NAN
-                    }
-                },
+                switches_per_s: per_second(r, |f| f.lod_switches),
+                reversals_per_s: per_second(r, |f| f.lod_reversals),
                 jod: None,
             }
         })
@@ -204,14 +212,14 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// The per-frame CSV: one row per policy and frame.
 pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{}",
                 f.policy.name(),
                 f.frame,
                 f.t_s,
@@ -226,6 +234,7 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
                 o(f.triangle_budget.map(|b| b.to_string())),
                 o(f.flip_mean.map(|v| format!("{v:.6}"))),
                 o(f.flip_p95.map(|v| format!("{v:.6}"))),
+                f.lod_reversals,
             );
         }
     }
@@ -236,13 +245,13 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
 /// ([`write_csv_with_json`]).
 pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
-        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod\n",
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod,lod_reversals_per_s\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for s in summaries {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{}",
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{},{:.3}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -256,7 +265,8 @@ pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<(
             s.flip_p95,
             s.over_budget,
             s.mean_scale,
-            s.jod.map(|v| format!("{v:.4}")).unwrap_or_default()
+            s.jod.map(|v| format!("{v:.4}")).unwrap_or_default(),
+            s.reversals_per_s
         );
     }
     write_csv_with_json(&t, path)

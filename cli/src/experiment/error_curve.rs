@@ -134,7 +134,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
     );
     let mut csv = String::from(
-        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod\n",
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s\n",
     );
     let jod_head = if fvvdp {
         format!(" {:>6} {:>10}", "JOD", "vs scr JOD")
@@ -142,7 +142,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         String::new()
     };
     println!(
-        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
+        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
         "policy",
         "knob",
         "mean ms",
@@ -150,6 +150,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         "tris/frm",
         "LOD",
         "sw/s",
+        "rev/s",
         "FLIP",
         "FLIP p95",
         "vs screen"
@@ -164,7 +165,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{}",
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -177,6 +178,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             text(ratio, &|r| format!("{r:.4}"), ""),
             text(s.jod, &|r| format!("{r:.4}"), ""),
             text(ratio_jod, &|r| format!("{r:.4}"), ""),
+            s.reversals_per_s,
         );
         let jod_cols = if fvvdp {
             format!(
@@ -190,7 +192,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         // FLIP is not measured with `--metric fvvdp` alone: "-", not NaN.
         let flip = |v: f64| text(v.is_finite().then_some(v), &|v| format!("{v:.4}"), "-");
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
+            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -198,6 +200,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             s.triangles,
             s.mean_lod,
             s.switches_per_s,
+            s.reversals_per_s,
             flip(s.flip_mean),
             flip(s.flip_p95),
             text(ratio, &|r| format!("{r:.2}x"), "-")
