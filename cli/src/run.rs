@@ -51,7 +51,8 @@ pub struct RunArgs {
     /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
     /// rendered; knob as in the experiments' CSV, full detail is `full_1`,
     /// dumped even when `full` is not played), each folder with gaze.csv
-    /// (frame,x_px,y_px: the gaze in pixels, origin top-left, y down), and
+    /// (frame,x_px,y_px: the viewer's fixation in pixels, origin top-left, y
+    /// down: the gaze, or `[gaze] viewer_object`'s centre), and
     /// DIR/display.json (resolution, fov_deg, fps, photometry, sequences).
     #[arg(long, value_name = "DIR")]
     pub dump_frames: Option<PathBuf>,

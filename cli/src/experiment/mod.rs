@@ -59,8 +59,9 @@ pub struct CommonArgs {
     /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
     /// rendered; knob as in the CSV, full detail is `full_1`, dumped even
     /// when not played), each folder with gaze.csv (frame,x_px,y_px: the
-    /// gaze in pixels, origin top-left, y down), and DIR/display.json
-    /// (resolution, fov_deg, fps, photometry, sequences).
+    /// viewer's fixation in pixels, origin top-left, y down: the gaze, or
+    /// `[gaze] viewer_object`'s centre), and DIR/display.json (resolution,
+    /// fov_deg, fps, photometry, sequences).
     #[arg(long, value_name = "DIR")]
     pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.

@@ -53,8 +53,9 @@ pub struct SpeedupArgs {
     /// `DIR/nNNNN_trialT/<policy>_<knob>/NNNN.png` (e.g.
     /// `n0100_trial0/acuity_all_1/0007.png`; RGB, as rendered; knob as in
     /// `acuity run`'s dump, full detail `full_1`), each policy folder with
-    /// gaze.csv (frame,x_px,y_px: the gaze in pixels, origin top-left, y
-    /// down), each trial folder with display.json (resolution, fov_deg,
+    /// gaze.csv (frame,x_px,y_px: the viewer's fixation in pixels, origin
+    /// top-left, y down: the gaze, or `[gaze] viewer_object`'s centre),
+    /// each trial folder with display.json (resolution, fov_deg,
     /// fps, photometry, sequences).
     #[arg(long, value_name = "DIR")]
     pub dump_frames: Option<PathBuf>,
