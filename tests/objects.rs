@@ -714,6 +714,44 @@ fn a_switch_to_a_coarser_lod_waits_for_a_saccade_or_the_longest_wait() {
 }
 
 #[test]
+fn under_a_budget_a_switch_waits_only_while_the_budget_has_room() {
+    let eye = Tracker::eye_default();
+    let far_frame = |sel: &mut Selector, id: ObjectId| {
+        sel.set_pose(id, DVec3::new(0.0, 0.0, -200.0), Quat::IDENTITY)
+            .unwrap();
+        FrameInput {
+            gaze: Gaze::at_screen_angles(0.0, 0.0, eye),
+            dt_s: 0.125,
+            ..frame(0)
+        }
+    };
+    let (mut at_once, other) = deferring(0.0);
+    let f = far_frame(&mut at_once, other);
+    let far = at_once.select_within_budget(&f, u64::MAX).unwrap();
+    // A generous budget: the switch waits, and the outcome counts the
+    // finer LOD it holds.
+    let (mut sel, id) = deferring(0.5);
+    let near = sel.selection(id).lod().unwrap();
+    let f = far_frame(&mut sel, id);
+    let held = sel.select_within_budget(&f, u64::MAX).unwrap();
+    assert_eq!(sel.selection(id).lod(), Some(near));
+    assert!(held.triangles > far.triangles, "{held:?} {far:?}");
+    assert_eq!(held.triangles, sel.triangles());
+    // A budget with no room for the finer LOD: the switch happens now.
+    let (mut sel, id) = deferring(0.5);
+    let f = far_frame(&mut sel, id);
+    let tight = sel.select_within_budget(&f, far.triangles).unwrap();
+    assert_eq!(sel.selection(id), at_once.selection(other));
+    assert!(sel.selection(id).lod() > Some(near));
+    assert!(sel.changed().contains(&id));
+    assert_eq!(
+        (tight.triangles, tight.within_budget),
+        (far.triangles, true)
+    );
+    assert_eq!(tight.triangles, sel.triangles());
+}
+
+#[test]
 fn a_wait_ends_without_a_switch_when_the_coarser_lod_is_no_longer_chosen() {
     let eye = Tracker::eye_default();
     let (mut sel, id) = deferring(0.5);

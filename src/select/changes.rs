@@ -82,27 +82,36 @@ impl Selector {
     }
 
     /// After a frame's selections are final: lists the changes and moves
-    /// the fades on by the frame's `dt_s`, as the settings ask.
-    pub(super) fn finish_frame(&mut self, frame: &FrameInput) {
+    /// the fades on by the frame's `dt_s`, as the settings ask. Switches
+    /// that wait for a saccade may add at most `room` triangles (`None`:
+    /// no limit); returns the triangles they add.
+    pub(super) fn finish_frame(&mut self, frame: &FrameInput, room: Option<u64>) -> u64 {
         let fade_s = self.settings.fade_time_s;
         let fading = fade_s.is_finite() && fade_s > 0.0;
         let deferring = self.defers_coarsening();
         if self.settings.track_changes || fading || deferring {
             self.list_changes();
         }
-        if deferring {
-            self.defer_coarsening(frame.dt_s);
-        }
+        let held = if deferring {
+            self.defer_coarsening(frame.dt_s, room)
+        } else {
+            0
+        };
         if fading {
             self.advance_fades(frame.dt_s, fade_s);
         }
+        held
     }
 
     /// Holds back this frame's switches to coarser LODs unless the gaze
-    /// is in a saccade or the switch has waited long enough (see
-    /// [`SelectorSettings::defer_coarsening_s`](super::SelectorSettings)).
-    fn defer_coarsening(&mut self, dt_s: f32) {
+    /// is in a saccade, the switch has waited long enough (see
+    /// [`SelectorSettings::defer_coarsening_s`](super::SelectorSettings)),
+    /// or holding it would add more than the `room` left (in the order of
+    /// the change list). Returns the triangles the held LODs add.
+    fn defer_coarsening(&mut self, dt_s: f32, room: Option<u64>) -> u64 {
         let max_wait_s = self.settings.defer_coarsening_s;
+        let mut room = room.unwrap_or(u64::MAX);
+        let mut held = 0u64;
         let step_s = if dt_s.is_finite() && dt_s > 0.0 {
             dt_s
         } else {
@@ -117,15 +126,26 @@ impl Selector {
                 let slot = self.changed_slots[k] as usize;
                 let handle = self.handles[id.index as usize];
                 let waited_s = handle.deferred_s + step_s;
-                let coarser = matches!(
-                    (before.lod(), self.selections[slot].lod()),
-                    (Some(from), Some(to)) if to > from
-                );
+                // The triangles holding the finer LOD adds; `None` unless
+                // the switch is to a coarser LOD.
+                let extra = match (before.lod(), self.selections[slot].lod()) {
+                    (Some(from), Some(to)) if to > from => {
+                        let t = &self.profiles[self.object_profiles[slot] as usize].triangles;
+                        Some(u64::from(t[from].saturating_sub(t[to])))
+                    }
+                    _ => None,
+                };
                 let allowed = handle.adjust == NONE
                     || before.lod().is_some_and(|l| {
                         self.adjusted[handle.adjust as usize].range().contains(&l)
                     });
-                if coarser && allowed && waited_s < max_wait_s {
+                if let Some(extra) = extra
+                    && allowed
+                    && waited_s < max_wait_s
+                    && extra <= room
+                {
+                    room -= extra;
+                    held += extra;
                     self.selections[slot] = before;
                     self.deferred.push((id.index, waited_s));
                     self.changed.swap_remove(k);
@@ -142,6 +162,7 @@ impl Selector {
         for &(h, waited_s) in &self.deferred {
             self.handles[h as usize].deferred_s = waited_s;
         }
+        held
     }
 
     fn advance_fades(&mut self, dt_s: f32, fade_s: f32) {

@@ -274,9 +274,10 @@ pub struct SelectorSettings {
     /// waited this long. Switches to a finer LOD (the detail is visible
     /// now), into or out of view, and out of an object's LOD range happen
     /// at once; a wait ends without a switch when the coarser LOD is no
-    /// longer chosen. A waiting object draws more triangles than chosen,
-    /// also under [`Selector::select_within_budget`]'s budget. Without an
-    /// eye tracker nothing waits (no saccade is seen).
+    /// longer chosen. A waiting object draws more triangles than chosen;
+    /// under [`Selector::select_within_budget`] a switch waits only while
+    /// the budget has room for the triangles its finer LOD adds. Without
+    /// an eye tracker nothing waits (no saccade is seen).
     pub defer_coarsening_s: f32,
 }
 
@@ -359,7 +360,8 @@ pub struct FrameInput {
 pub struct BudgetOutcome {
     /// The scale factor `s` chosen.
     pub scale: f32,
-    /// Triangles of the chosen LODs (culled objects count 0).
+    /// Triangles drawn: those of the chosen LODs and of the finer LODs
+    /// held by switches waiting for a saccade (culled objects count 0).
     pub triangles: u64,
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,

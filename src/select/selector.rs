@@ -311,7 +311,7 @@ impl Selector {
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, false);
         }
-        self.finish_frame(frame);
+        self.finish_frame(frame, None);
         Ok(())
     }
 
@@ -323,7 +323,7 @@ impl Selector {
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, true);
         }
-        self.finish_frame(frame);
+        self.finish_frame(frame, None);
         Ok(())
     }
 
@@ -409,7 +409,9 @@ impl Selector {
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
         }
-        self.finish_frame(frame);
+        // Switches waiting for a saccade hold finer LODs only within the
+        // budget's room.
+        triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         Ok(BudgetOutcome {
             scale,
             triangles,
