@@ -142,7 +142,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         String::new()
     };
     println!(
-        "{:<12} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
+        "{:<17} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
         "policy",
         "knob",
         "mean ms",
@@ -192,7 +192,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         // FLIP is not measured with `--metric fvvdp` alone: "-", not NaN.
         let flip = |v: f64| text(v.is_finite().then_some(v), &|v| format!("{v:.4}"), "-");
         println!(
-            "{:<12} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
+            "{:<17} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
