@@ -153,7 +153,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
+        "{:<18} {:>9} {:>9} {:>10} {:>6} {:>8} {:>8} {:>6} {:>6} {:>6} {:>8} {:>8} {:>6} {:>5}{}",
         "policy",
         "mean ms",
         "p95 ms",
@@ -163,6 +163,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
         "tri x",
         "LOD",
         "sw/s",
+        "rev/s",
         "FLIP",
         "FLIP p95",
         "over%",
@@ -184,7 +185,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
     for s in summaries {
         let _ = writeln!(
             t,
-            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>6.1} {:>8} {:>8} {:>6.1} {:>5.2}{}",
+            "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>6.1} {:>5.2}{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -194,6 +195,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
             opt(s.triangle_ratio),
             s.mean_lod,
             s.switches_per_s,
+            s.reversals_per_s,
             flip(s.flip_mean),
             flip(s.flip_p95),
             100.0 * s.over_budget,
