@@ -211,6 +211,8 @@ struct State {
     textures: HashMap<usize, (Arc<Texture>, Weak<wgpu::BindGroup>)>,
     target: Option<Target>,
     instance_buf: Option<wgpu::Buffer>,
+    /// The frame's instances, grouped and packed (kept for its buffers).
+    packer: instances::Packer,
 }
 
 /// The shared headless renderer. See the module docs.
@@ -419,6 +421,7 @@ impl Renderer {
                 textures: HashMap::new(),
                 target: None,
                 instance_buf: None,
+                packer: instances::Packer::default(),
             }),
         })
     }
@@ -574,15 +577,11 @@ impl Renderer {
         }
         self.queue.write_buffer(&self.uniforms, 0, &u);
 
-        let instances::Packed {
-            bytes: ibytes,
-            ranges,
-            triangles,
-        } = instances::pack(req, |id| {
-            state.meshes[id.0 as usize]
-                .as_ref()
-                .map_or(0, |m| m.index_count)
+        let meshes = &state.meshes;
+        let triangles = state.packer.pack(req, |id| {
+            meshes[id.0 as usize].as_ref().map_or(0, |m| m.index_count)
         });
+        let (ibytes, ranges) = (&state.packer.bytes, &state.packer.ranges);
         if !ibytes.is_empty() {
             let need = ibytes.len() as u64;
             if state.instance_buf.as_ref().is_none_or(|b| b.size() < need) {
@@ -594,7 +593,7 @@ impl Renderer {
                 }));
             }
             if let Some(b) = &state.instance_buf {
-                self.queue.write_buffer(b, 0, &ibytes);
+                self.queue.write_buffer(b, 0, ibytes);
             }
         }
 
@@ -641,7 +640,7 @@ impl Renderer {
             if let Some(ib) = &state.instance_buf {
                 pass.set_vertex_buffer(1, ib.slice(..));
             }
-            for (id, inst) in &ranges {
+            for (id, inst) in ranges {
                 let Some(gm) = state.meshes[id.0 as usize].as_ref() else {
                     continue;
                 };
