@@ -578,13 +578,9 @@ fn check_sequence(dir: &Path, frames: u32) -> Vec<(u32, f64, f64)> {
     rows
 }
 
-#[test]
-fn dump_frames_writes_every_sequence_with_gaze_and_display() {
-    let dir = scratch("dump");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
-    let dump = dir.join("frames");
-    let out = dir.join("out");
+/// `acuity run` of `scene`'s first 3 frames under `policies`, at the
+/// coarse profile settings, dumping the frames to `dump`.
+fn run_dumping(scene: &Path, out: &Path, dump: &Path, policies: &str) -> std::process::Output {
     let mut args = vec![
         "run",
         scene.to_str().unwrap(),
@@ -592,14 +588,23 @@ fn dump_frames_writes_every_sequence_with_gaze_and_display() {
         out.to_str().unwrap(),
         "--frames",
         "3",
-        // No `full`: its frames are dumped as the reference anyway.
         "--policies",
-        "screen_size,acuity_size",
+        policies,
         "--dump-frames",
         dump.to_str().unwrap(),
     ];
     args.extend(COARSE);
-    let o = acuity(&args);
+    acuity(&args)
+}
+
+#[test]
+fn dump_frames_writes_every_sequence_with_gaze_and_display() {
+    let dir = scratch("dump");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, TINY).unwrap();
+    let dump = dir.join("frames");
+    // No `full`: its frames are dumped as the reference anyway.
+    let o = run_dumping(&scene, &dir.join("out"), &dump, "screen_size,acuity_size");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut folders: Vec<String> = std::fs::read_dir(&dump)
         .unwrap()
@@ -650,21 +655,12 @@ fn the_viewers_object_moves_the_dumped_fixation_and_not_the_selection() {
         );
         std::fs::write(&scene, text).unwrap();
         let dump = dir.join(name);
-        let out = dir.join(format!("{name}-out"));
-        let mut args = vec![
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--frames",
-            "3",
-            "--policies",
+        let o = run_dumping(
+            &scene,
+            &dir.join(format!("{name}-out")),
+            &dump,
             "screen_size",
-            "--dump-frames",
-            dump.to_str().unwrap(),
-        ];
-        args.extend(COARSE);
-        let o = acuity(&args);
+        );
         assert!(
             o.status.success(),
             "{name}: {}",
