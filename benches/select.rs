@@ -15,6 +15,11 @@
 //! `single_thread_adjusted` (1e5) with every 100th object biased, every
 //! 100th other one with an LOD range and cross-fades on: what those cost.
 //!
+//! `single_thread_best_effort` and `single_thread_budget_uniform` (1e5 and
+//! 1e6) select within a triangle budget of half the triangles the poses
+//! draw at `s = 1` ([`Selector::select_within_budget`]), by each
+//! [`BudgetRule`]: the loop plus the budget's own work.
+//!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
 
@@ -22,8 +27,8 @@
 mod common;
 
 use acuity::{
-    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selector, SelectorSettings, SimdLevel,
-    Tracker,
+    BudgetRule, Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selector,
+    SelectorSettings, SimdLevel, Tracker,
 };
 use common::{Rng, four_lod_profile};
 use criterion::{
@@ -42,6 +47,8 @@ enum Extras {
     Tracked,
     /// Biases, LOD ranges and cross-fades.
     Adjusted,
+    /// Selection within half the triangles drawn at `s = 1`, by a rule.
+    Budget(BudgetRule),
 }
 
 fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
@@ -52,6 +59,10 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
         simd,
         track_changes: extras == Extras::Tracked,
         fade_time_s: if adjusted { 0.2 } else { 0.0 },
+        budget_rule: match extras {
+            Extras::Budget(rule) => rule,
+            _ => BudgetRule::default(),
+        },
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);
@@ -138,10 +149,22 @@ fn bench_select(c: &mut Criterion) {
                 Extras::None,
             ),
             ("parallel", true, SimdLevel::Widest, Extras::None),
+            (
+                "single_thread_best_effort",
+                false,
+                SimdLevel::Widest,
+                Extras::Budget(BudgetRule::BestEffort),
+            ),
+            (
+                "single_thread_budget_uniform",
+                false,
+                SimdLevel::Widest,
+                Extras::Budget(BudgetRule::UniformScale),
+            ),
         ] {
             let wanted = match extras {
                 Extras::None => true,
-                Extras::Tracked => n >= 100_000,
+                Extras::Tracked | Extras::Budget(_) => n >= 100_000,
                 Extras::Adjusted => n == 100_000,
             };
             if !wanted {
@@ -149,8 +172,10 @@ fn bench_select(c: &mut Criterion) {
             }
             let (mut sel, ids) = scene(n, parallel, simd, extras);
             let mut visible = 0;
+            let mut triangles = 0;
             for frame in &frames {
                 sel.select(frame).unwrap();
+                triangles += sel.triangles();
                 visible += ids
                     .iter()
                     .filter(|&&id| !sel.selection(id).is_culled())
@@ -160,10 +185,15 @@ fn bench_select(c: &mut Criterion) {
                 "{name}/{n}: visible fraction {:.3}",
                 visible as f64 / (POSES * n) as f64
             );
+            let budget = triangles / (2 * POSES as u64);
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
                 b.iter(|| {
                     for frame in &frames {
-                        sel.select(frame).unwrap();
+                        if let Extras::Budget(_) = extras {
+                            sel.select_within_budget(frame, budget).unwrap();
+                        } else {
+                            sel.select(frame).unwrap();
+                        }
                     }
                 })
             });

@@ -212,7 +212,22 @@ pub struct Observer {
     /// smaller area `a` counts with its contrast scaled by
     /// `(a / pooling_area_deg2)^(1 / beta)` ([`Csf::pooled_contrast`]).
     pub pooling_area_deg2: f32,
+    /// The pooled detectability at which an LOD transition stops being
+    /// imperceptible, in units of the detection threshold (finite, `>= 1`;
+    /// default [`DEFAULT_THRESHOLD_JND`]): a transition whose features pool
+    /// to less ([`crate::rows::transition_critical_cdiam`]) is dropped at
+    /// `s = 1`. 1 is the threshold of a single grating in a detection
+    /// experiment (Barten's CSF).
+    pub threshold_jnd: f32,
 }
+
+/// The calibration of `s = 1`: the pooled detectability, in units of the
+/// detection threshold, below which a transition counts as imperceptible
+/// ([`Observer::threshold_jnd`]). Fixed once, for every scene and display,
+/// so that `s = 1` lands at the edge of visibility as FovVideoVDP judges
+/// whole scenes (foveated JOD 9.75, a quarter JOD below the reference);
+/// how it was measured is in the repository's `docs/perception.md`.
+pub const DEFAULT_THRESHOLD_JND: f32 = 1.4;
 
 impl Default for Observer {
     fn default() -> Self {
@@ -220,6 +235,7 @@ impl Default for Observer {
             sensitivity: 1.0,
             masking: DEFAULT_MASKING,
             pooling_area_deg2: 0.0,
+            threshold_jnd: DEFAULT_THRESHOLD_JND,
         }
     }
 }
@@ -243,6 +259,15 @@ impl Observer {
             return Err(Error::invalid(
                 "pooling_area_deg2",
                 format!("{} is not a finite area >= 0", self.pooling_area_deg2),
+            ));
+        }
+        if !(self.threshold_jnd.is_finite() && self.threshold_jnd >= 1.0) {
+            return Err(Error::invalid(
+                "threshold_jnd",
+                format!(
+                    "{} is not a finite detectability >= 1 (the detection threshold)",
+                    self.threshold_jnd
+                ),
             ));
         }
         Ok(())
@@ -278,6 +303,7 @@ pub const FIELD_RANGE_DEG: (f32, f32) = (0.05, 60.0);
 pub struct Csf {
     masking: f32,
     pooling_area_deg2: f32,
+    threshold_jnd: f32,
     luminance_cd_m2: f64,
     scale: f64,
 }
@@ -306,9 +332,16 @@ impl Csf {
         Ok(Self {
             masking: observer.masking,
             pooling_area_deg2: observer.pooling_area_deg2,
+            threshold_jnd: observer.threshold_jnd,
             luminance_cd_m2: f64::from(photometry.adapting_cd_m2),
             scale: f64::from(observer.sensitivity),
         })
+    }
+
+    /// The pooled detectability at which a transition becomes visible
+    /// ([`Observer::threshold_jnd`]).
+    pub fn threshold_jnd(&self) -> f32 {
+        self.threshold_jnd
     }
 
     /// The fraction of foveal acuity that retinal motion cannot take away

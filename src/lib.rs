@@ -52,7 +52,7 @@ pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
-    BudgetOutcome, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
+    BudgetOutcome, BudgetRule, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,
 };
 pub use crate::stereo::{Eye, StereoRig};
@@ -68,6 +68,7 @@ pub fn profile_for_docs() -> Profile {
                 area_diam2: 0.001,
                 luminance: [0.0, 0.5],
                 masker: [0.0, 0.5],
+                count: 1,
             }],
         })
         .collect();

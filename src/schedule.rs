@@ -5,8 +5,8 @@
 //!   never above 1, when there was spare time.
 //! - The predictive mode (Funkhouser & Séquin 1993) lives in
 //!   [`Selector::select_within_budget`](crate::Selector::select_within_budget):
-//!   it picks `s` from each LOD's triangle count before the frame is
-//!   drawn. [`CostModel`] turns a frame-time target into that triangle
+//!   it spends a triangle budget before the frame is drawn (least visible
+//!   detail per triangle first, or one `s` for all). [`CostModel`] turns a frame-time target into that triangle
 //!   budget from measured frames.
 //!
 //! Both are pure: they are given times, they read no clock.

@@ -100,11 +100,37 @@ fn errors_name_the_file() {
 fn a_newer_version_is_refused_by_number() {
     let json =
         String::from_utf8(acuity::profile::json::encode(&four_lod_profile(1)).unwrap()).unwrap();
-    let json = json.replacen("\"format_version\": 2", "\"format_version\": 3", 1);
+    let json = json.replacen("\"format_version\": 3", "\"format_version\": 4", 1);
     assert!(matches!(
         Profile::from_bytes(json.as_bytes()),
-        Err(Error::ProfileVersion { found: 3, .. })
+        Err(Error::ProfileVersion { found: 4, .. })
     ));
+}
+
+#[test]
+fn a_format_2_profile_is_refused_with_how_to_regenerate_it() {
+    // Format 2 stored only each transition's most visible features, which
+    // cannot be pooled; its files are refused, binary and JSON alike.
+    let mut bytes = acuity::profile::binary::encode(&four_lod_profile(1)).unwrap();
+    bytes[8..12].copy_from_slice(&2u32.to_le_bytes());
+    let json =
+        String::from_utf8(acuity::profile::json::encode(&four_lod_profile(1)).unwrap()).unwrap();
+    let json = json.replacen("\"format_version\": 3", "\"format_version\": 2", 1);
+    for bytes in [bytes, json.into_bytes()] {
+        let e = Profile::from_bytes(&bytes).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::ProfileVersion {
+                    found: 2,
+                    supported: 3,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("regenerate"), "{e}");
+    }
 }
 
 proptest! {

@@ -130,6 +130,51 @@ proptest! {
     }
 
     #[test]
+    fn pooled_critical_frequencies_are_positive_and_monotone(
+        raw in proptest::collection::vec(
+            (any_f32(), any_f32(), 0f32..1.0, 0f32..1.0, 0f32..1.0, 1u32..5),
+            0..12,
+        ),
+        diameter_deg in prop_oneof![1e-3f32..1e3, Just(0.0f32), Just(f32::NAN)],
+        threshold in 1f32..64.0,
+        extra in 1f32..4.0,
+    ) {
+        use acuity::profile::Feature;
+        use acuity::rows::{FieldCsfs, transition_critical_cdiam};
+        // Features as a profile stores them: finite, positive frequency
+        // and area, ordered luminance pairs.
+        let features: Vec<Feature> = raw
+            .iter()
+            .map(|&(f, a, l0, l1, m, count)| Feature {
+                freq_cdiam: if f.is_finite() { f.abs().clamp(1e-3, 1e3) } else { 1.0 },
+                area_diam2: if a.is_finite() { a.abs().clamp(1e-6, 1.0) } else { 1.0 },
+                luminance: [l0.min(l1), l0.max(l1)],
+                masker: [m.min(l0), m.max(l0)],
+                count,
+            })
+            .collect();
+        let photometry = Photometry::default();
+        let q = |threshold_jnd: f32, features: &[Feature]| {
+            let observer = Observer { threshold_jnd, ..Default::default() };
+            let csf = Csf::new(&photometry, &observer).unwrap();
+            transition_critical_cdiam(features, diameter_deg, &photometry, &mut FieldCsfs::new(&csf))
+        };
+        let base = q(threshold, &features);
+        prop_assert!(base > 0.0 && !base.is_nan(), "{base}");
+        // A higher threshold: invisible up to at least as high a k.
+        prop_assert!(q(threshold * extra, &features) >= base);
+        // One more feature (or one counted twice) is never less visible.
+        if let Some(first) = features.first() {
+            let mut more = features.clone();
+            more.push(Feature { count: first.count + 1, ..*first });
+            more.sort_by(|a, b| a.freq_cdiam.total_cmp(&b.freq_cdiam));
+            // (Within the bisection's precision: the bracket depends on
+            // the features.)
+            prop_assert!(q(threshold, &more) <= base * (1.0 + 1e-5));
+        }
+    }
+
+    #[test]
     fn g_and_m_are_continuous_at_their_breakpoints(eps in 1e-6f32..1e-3) {
         for bp in [VELOCITY_FLOOR_DEG_PER_S, VELOCITY_CEILING_DEG_PER_S] {
             let jump = (velocity_acuity_cpd(bp * (1.0 + eps)) - velocity_acuity_cpd(bp * (1.0 - eps))).abs();

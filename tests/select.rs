@@ -3,8 +3,8 @@
 mod common;
 
 use acuity::{
-    Camera, Components, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selection, Selector,
-    SelectorSettings, Tracker, ViewpointRule,
+    BudgetRule, Camera, Components, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selection,
+    Selector, SelectorSettings, Tracker, ViewpointRule,
 };
 use common::{Rng, four_lod_profile, single_lod_profile};
 use glam::{DVec3, Quat, Vec3};
@@ -591,8 +591,12 @@ fn zero_and_negative_dt_keep_velocities() {
 }
 
 #[test]
-fn the_budget_is_met_with_the_largest_scale_that_fits() {
-    let (mut sel, _) = random_scene(SelectorSettings::default(), 3000, 21, DVec3::ZERO);
+fn the_uniform_budget_is_met_with_the_largest_scale_that_fits() {
+    let settings = SelectorSettings {
+        budget_rule: BudgetRule::UniformScale,
+        ..SelectorSettings::default()
+    };
+    let (mut sel, _) = random_scene(settings, 3000, 21, DVec3::ZERO);
     let frame = frame_at(DVec3::ZERO, 0.016);
     sel.select(&frame).unwrap();
     let full_acuity = sel.triangles();
@@ -627,4 +631,106 @@ fn the_budget_is_met_with_the_largest_scale_that_fits() {
     let out = sel.select_within_budget(&frame, 10).unwrap();
     assert!(!out.within_budget);
     assert!((out.scale - sel.settings().min_scale).abs() < 1e-6);
+}
+
+#[test]
+fn best_effort_meets_the_budget_and_only_ever_coarsens_what_s_max_chose() {
+    let (mut sel, ids) = random_scene(SelectorSettings::default(), 3000, 21, DVec3::ZERO);
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    sel.select(&frame).unwrap();
+    let at_one = lods(&sel, &ids);
+    let full_acuity = sel.triangles();
+    for fraction in [1.5, 0.8, 0.5, 0.3] {
+        let budget = (full_acuity as f64 * fraction) as u64;
+        let out = sel.select_within_budget(&frame, budget).unwrap();
+        assert!(
+            out.within_budget && out.triangles <= budget,
+            "{fraction}: {out:?}"
+        );
+        assert_eq!(out.triangles, sel.triangles());
+        if fraction >= 1.0 {
+            assert_eq!(out.scale, 1.0);
+            assert_eq!(lods(&sel, &ids), at_one);
+        } else {
+            assert!(out.scale < 1.0, "{fraction}: {out:?}");
+            for (now, before) in lods(&sel, &ids).iter().zip(&at_one) {
+                assert!(now.lod() >= before.lod(), "{now:?} finer than {before:?}");
+            }
+        }
+    }
+    // Nothing below min_scale: an impossible budget stops there.
+    let out = sel.select_within_budget(&frame, 10).unwrap();
+    assert!(!out.within_budget);
+    assert!(out.scale >= sel.settings().min_scale);
+    let settings = SelectorSettings {
+        budget_rule: BudgetRule::UniformScale,
+        ..SelectorSettings::default()
+    };
+    let (mut uniform, _) = random_scene(settings, 3000, 21, DVec3::ZERO);
+    let floor = uniform.select_within_budget(&frame, 10).unwrap();
+    assert!(out.triangles >= floor.triangles, "{out:?} {floor:?}");
+}
+
+/// A two-LOD profile whose one transition is a single feature of
+/// `freq_cdiam` seen from every viewpoint and size.
+fn two_lod_profile(triangles: [u32; 2], freq_cdiam: f32) -> acuity::Profile {
+    let mut p = four_lod_profile(1);
+    p.lod_triangles = triangles.to_vec();
+    let rungs = p.rung_diameters_px.len();
+    p.transitions = (0..p.viewpoints.len() * rungs)
+        .map(|_| acuity::profile::TransitionFeatures {
+            feature_count: 1,
+            features: vec![acuity::profile::Feature {
+                freq_cdiam,
+                area_diam2: 0.01,
+                luminance: [0.0, 0.5],
+                masker: [0.0, 0.5],
+                count: 1,
+            }],
+        })
+        .collect();
+    p
+}
+
+#[test]
+fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_saves_40_at_the_same_visibility()
+ {
+    for rule in [BudgetRule::BestEffort, BudgetRule::UniformScale] {
+        let settings = SelectorSettings {
+            budget_rule: rule,
+            ..SelectorSettings::default()
+        };
+        let mut sel = Selector::new(display(), settings);
+        let big = sel
+            .add_profile(&two_lod_profile([4000, 1000], 60.0))
+            .unwrap();
+        let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
+        // Side by side at the same distance: the same acuity, the same
+        // critical frequency, both visible at s = 1.
+        let mut add = |x: f64, profile| {
+            sel.add_object(ObjectDesc {
+                center: DVec3::new(x, 0.0, -10.0),
+                radius: 1.0,
+                rotation: Quat::IDENTITY,
+                profile,
+            })
+            .unwrap()
+        };
+        let (a, b) = (add(-1.5, big), add(1.5, small));
+        let frame = frame_at(DVec3::ZERO, 0.016);
+        sel.select(&frame).unwrap();
+        assert_eq!(
+            (sel.selection(a).lod(), sel.selection(b).lod()),
+            (Some(0), Some(0))
+        );
+        let out = sel.select_within_budget(&frame, 1100).unwrap();
+        assert!(out.within_budget, "{rule:?}: {out:?}");
+        let lods = (sel.selection(a).lod(), sel.selection(b).lod());
+        match rule {
+            // The big saver goes; the small one keeps its detail.
+            BudgetRule::BestEffort => assert_eq!(lods, (Some(1), Some(0)), "{out:?}"),
+            // One s for both: both go at the same breakpoint.
+            BudgetRule::UniformScale => assert_eq!(lods, (Some(1), Some(1)), "{out:?}"),
+        }
+    }
 }

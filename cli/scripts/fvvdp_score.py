@@ -19,10 +19,15 @@ DUMP_DIR is what `acuity run --dump-frames DIR` writes:
                      top-left corner of the image, x right, y down
                      (the display centre is (w/2, h/2))
 
-Output: one line of JSON on stdout, {"<policy>_<knob>": jod, ...}, every
-sequence including the reference itself (10: identical by construction;
-a sequence whose frames equal the reference's byte for byte also gets 10
-without running the metric).
+Output: one line of JSON on stdout, {"<policy>_<knob>": jod,
+"<policy>_<knob>:local_p999": local, ...}, every sequence including the
+reference itself (10 and 0: identical by construction; a sequence whose
+frames equal the reference's byte for byte also gets them without running
+the metric). `local` is the most visible local difference: the 99.9th
+percentile over pixels and frames of FovVideoVDP's per-pixel distortion
+map (`heatmap="raw"`: the JOD loss each pixel's difference would cost if
+the whole image had it), so that one bright pop in a large image shows
+even where the global JOD hides it.
 JOD: 10 = identical to the reference, one JOD less = 75% of observers
 prefer the reference. Progress and warnings go to stderr.
 
@@ -101,6 +106,25 @@ def load_sequence(dump, name, frames):
     return np.stack(imgs).astype(np.uint8)  # F, H, W, C
 
 
+def top_percentile(maps, percent, pixels):
+    """The `percent` percentile (nearest rank) over every value of the
+    heatmaps (tensors whose elements are frames x `pixels`), found from each
+    frame's largest values so that no float32 copy of the whole video is
+    made."""
+    import torch
+
+    frames = [m.reshape(-1, pixels) for m in maps]
+    n = sum(f.shape[0] for f in frames) * pixels
+    rank = math.ceil(percent / 100.0 * n)  # ascending, 1-based
+    largest = n - rank + 1
+    tops = [
+        torch.topk(row.float(), min(largest, pixels)).values
+        for f in frames
+        for row in f
+    ]
+    return float(torch.topk(torch.cat(tops), largest).values.min())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dump", nargs="?", help="the dump folder")
@@ -150,7 +174,7 @@ def main():
         display_geometry=geometry,
         color_space="sRGB",
         foveated=True,
-        heatmap=None,
+        heatmap="raw",
         quiet=True,
         device=device,
         temp_padding="replicate",
@@ -175,6 +199,7 @@ def main():
     for name in sequences:
         if name == args.reference:
             scores[name] = 10.0
+            scores[f"{name}:local_p999"] = 0.0
             continue
         started = time.time()
         frames, _ = read_gaze(os.path.join(args.dump, name, "gaze.csv"))
@@ -184,27 +209,35 @@ def main():
         if np.array_equal(test, reference):
             # No difference scores 10 exactly; skip the metric's work.
             scores[name] = 10.0
+            scores[f"{name}:local_p999"] = 0.0
             log(f"{name}: identical to the reference, 10 JOD")
             continue
         with torch.no_grad():
             if stills:
-                q = []
+                q, maps = [], []
                 for k in range(len(frames)):
                     _, stats = metric.predict(
                         test[k], reference[k], dim_order="HWC", fixation_point=fixation[k]
                     )
                     q.append(torch.as_tensor(stats["Q_per_ch"], device=metric.device))
+                    maps.append(stats["heatmap"])
                 jod = metric.do_pooling_and_jods(torch.cat(q, dim=2), metric.lpyr.get_freqs()[0:-1])
             elif video:
-                jod, _ = metric.predict(
+                jod, stats = metric.predict(
                     test, reference, dim_order="FHWC", frames_per_second=fps, fixation_point=fixation
                 )
+                maps = [stats["heatmap"]]
             else:
-                jod, _ = metric.predict(
+                jod, stats = metric.predict(
                     test[0], reference[0], dim_order="HWC", fixation_point=fixation[0]
                 )
+                maps = [stats["heatmap"]]
         scores[name] = float(jod)
-        log(f"{name}: {scores[name]:.4f} JOD ({time.time() - started:.1f} s)")
+        scores[f"{name}:local_p999"] = top_percentile(maps, 99.9, h * w)
+        log(
+            f"{name}: {scores[name]:.4f} JOD, local 99.9th percentile "
+            f"{scores[f'{name}:local_p999']:.4f} ({time.time() - started:.1f} s)"
+        )
     print(json.dumps(scores))
 
 

@@ -292,7 +292,7 @@ impl<'w> Player<'w> {
                 let bias = if p == Policy::ScreenSize { knob } else { 1.0 };
                 let mut r = PolicyRunner::new(world, p, bias, cost)?;
                 if p != Policy::Full && p != Policy::ScreenSize {
-                    r.set_scale(knob);
+                    r.set_knob(knob);
                 }
                 Ok(r)
             })

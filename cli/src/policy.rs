@@ -20,8 +20,8 @@ use crate::screen_size::{
     BelowLast, ScreenSizeChoice, ScreenSizeLod, relative_height, thresholds_from,
 };
 use acuity::{
-    Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler, ReactiveSettings,
-    Selector, SelectorSettings,
+    BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler,
+    ReactiveSettings, Selector, SelectorSettings,
 };
 
 /// The model components a policy selects with; `None` for policies that do
@@ -40,9 +40,12 @@ pub fn components(policy: Policy) -> Option<Components> {
         Policy::AcuitySizeEcc => c(true, true, false),
         Policy::AcuitySizeVel => c(true, false, true),
         Policy::AcuityEccVel => c(false, true, true),
-        Policy::AcuityAll | Policy::AcuityReactive | Policy::AcuityPredictive => {
-            c(true, true, true)
-        }
+        Policy::AcuityAll
+        | Policy::AcuityReactive
+        | Policy::AcuityPredictive
+        | Policy::AcuityPredictiveUniform
+        | Policy::AcuityBestEffort
+        | Policy::AcuityBudgetUniform => c(true, true, true),
     }
 }
 
@@ -67,6 +70,11 @@ pub struct PolicyRunner {
     reactive: Option<ReactiveScheduler>,
     cost: Option<CostModel>,
     target_frame_s: f32,
+    /// The budgeted policies' share of full detail's triangles.
+    budget_share: Option<f64>,
+    /// Full detail's triangles over the objects in view last frame (all
+    /// objects before the first): what the share applies to.
+    full_detail_triangles: u64,
     /// The screen-size policy's fades (its LODs are not the selector's).
     screen_fades: Option<CrossFades>,
     fades: Vec<Option<FadeOut>>,
@@ -99,6 +107,14 @@ impl PolicyRunner {
                 .map_or(f32::INFINITY, |v| v as f32),
             defer_coarsening_s: world.scene.gaze.defer_coarsening_s as f32,
             radius_margin: world.radius_margin,
+            budget_rule: if matches!(
+                policy,
+                Policy::AcuityBudgetUniform | Policy::AcuityPredictiveUniform
+            ) {
+                BudgetRule::UniformScale
+            } else {
+                BudgetRule::BestEffort
+            },
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);
@@ -143,7 +159,11 @@ impl PolicyRunner {
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;
-        if matches!(policy, Policy::AcuityReactive | Policy::AcuityPredictive) {
+        let predictive = matches!(
+            policy,
+            Policy::AcuityPredictive | Policy::AcuityPredictiveUniform
+        );
+        if predictive || policy == Policy::AcuityReactive {
             acuity::schedule::check_target_hz("run.target_hz", run.target_hz)?;
         }
         let target_hz = run.target_hz as f32;
@@ -162,12 +182,29 @@ impl PolicyRunner {
             screen,
             scale,
             reactive,
-            cost: (policy == Policy::AcuityPredictive).then_some(cost),
+            cost: predictive.then_some(cost),
             target_frame_s: 1.0 / target_hz,
+            budget_share: policy.is_budgeted().then_some(1.0),
+            full_detail_triangles: world
+                .instances
+                .iter()
+                .map(|i| u64::from(world.objects[i.object].profile.lod_triangles[0]))
+                .sum(),
             screen_fades: (policy == Policy::ScreenSize && cross_fade_s > 0.0)
                 .then(|| CrossFades::new(cross_fade_s)),
             fades: Vec::new(),
         })
+    }
+
+    /// Sets the policy's knob: the budgeted policies' share of full
+    /// detail's triangles (clamped into (0, 1]), else the global scale
+    /// factor ([`PolicyRunner::set_scale`]).
+    pub fn set_knob(&mut self, knob: f64) {
+        if self.budget_share.is_some() {
+            self.budget_share = Some(if knob > 0.0 { knob.min(1.0) } else { 1.0 });
+        } else {
+            self.set_scale(knob);
+        }
     }
 
     /// Sets the global scale factor `s` (clamped into (0, 1]); for the
@@ -210,9 +247,13 @@ impl PolicyRunner {
             scale,
             triangle_budget: None,
         };
-        match &self.cost {
-            Some(cost) => {
-                let budget = cost.triangle_budget(self.target_frame_s);
+        let budget = match (&self.cost, self.budget_share) {
+            (Some(cost), _) => Some(cost.triangle_budget(self.target_frame_s)),
+            (None, Some(share)) => Some((share * self.full_detail_triangles as f64) as u64),
+            (None, None) => None,
+        };
+        match budget {
+            Some(budget) => {
                 let out = self.selector.select_within_budget(&frame, budget)?;
                 choice = Choice {
                     scale: out.scale,
@@ -220,6 +261,15 @@ impl PolicyRunner {
                 };
             }
             None => self.selector.select(&frame)?,
+        }
+        if self.budget_share.is_some() {
+            self.full_detail_triangles = world
+                .instances
+                .iter()
+                .zip(&self.ids)
+                .filter(|(_, id)| !self.selector.selection(**id).is_culled())
+                .map(|(i, _)| u64::from(world.objects[i.object].profile.lod_triangles[0]))
+                .sum();
         }
         lods.clear();
         let fov_v = world.scene.display.screen_height_fov_deg();

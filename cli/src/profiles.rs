@@ -65,6 +65,7 @@ pub fn profile_from_analysis(analysis: &ObjectAnalysis, settings: &AnalysisSetti
                         area_diam2: f.area_diam2,
                         luminance: f.luminance,
                         masker: f.masker,
+                        count: f.count,
                     })
                     .collect(),
             })
@@ -313,6 +314,7 @@ mod tests {
                     area_diam2: 0.01,
                     luminance,
                     masker: luminance,
+                    count: 1,
                 })
                 .collect(),
         };

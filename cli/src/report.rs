@@ -55,6 +55,10 @@ pub struct Summary {
     /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
     /// identical); `None` unless scored ([`attach_jod`]).
     pub jod: Option<f64>,
+    /// The most visible local difference: the 99.9th percentile over
+    /// pixels and frames of FovVideoVDP's per-pixel distortion map, JOD
+    /// lost; `None` unless scored ([`attach_jod`]).
+    pub jod_local_p999: Option<f64>,
 }
 
 /// A per-frame count's total over a run per second of simulated time from
@@ -124,6 +128,7 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                 switches_per_s: per_second(r, |f| f.lod_switches),
                 reversals_per_s: per_second(r, |f| f.lod_reversals),
                 jod: None,
+                jod_local_p999: None,
             }
         })
         .collect()
@@ -138,6 +143,7 @@ pub fn attach_jod(summaries: &mut [Summary], scores: &BTreeMap<String, f64>) -> 
             .get(&name)
             .with_context(|| format!("FovVideoVDP gave no score for `{name}`"))?;
         s.jod = Some(*jod);
+        s.jod_local_p999 = scores.get(&format!("{name}:local_p999")).copied();
     }
     Ok(())
 }
@@ -247,13 +253,13 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
 /// ([`write_csv_with_json`]).
 pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<()> {
     let mut t = String::from(
-        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod,lod_reversals_per_s\n",
+        "policy,mean_ms,p95_ms,triangles,draw_calls,mean_lod,lod_switches_per_s,speedup,triangle_ratio,flip_mean,flip_p95,over_budget,mean_scale,jod,lod_reversals_per_s,jod_local_p999\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for s in summaries {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{},{:.3}",
+            "{},{:.4},{:.4},{:.1},{:.2},{:.4},{:.3},{},{},{:.6},{:.6},{:.4},{:.4},{},{:.3},{}",
             s.policy.name(),
             s.mean_ms,
             s.p95_ms,
@@ -268,7 +274,8 @@ pub fn write_summary_csv(summaries: &[Summary], path: &Path) -> anyhow::Result<(
             s.over_budget,
             s.mean_scale,
             s.jod.map(|v| format!("{v:.4}")).unwrap_or_default(),
-            s.reversals_per_s
+            s.reversals_per_s,
+            o(s.jod_local_p999),
         );
     }
     write_csv_with_json(&t, path)

@@ -15,6 +15,7 @@ pub fn demo_profile() -> Profile {
                 area_diam2: 0.01,
                 luminance: [0.2, 0.5],
                 masker: [0.2, 0.5],
+                count: 1,
             }],
         })
         .collect();

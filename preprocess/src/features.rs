@@ -52,13 +52,11 @@
 //!   (`acuity::csf`).
 //! - **Area**: the feature's pixel count. Larger features are more visible
 //!   (spatial summation; the run time uses it as the CSF's field size).
-//! - **What is kept**: a feature is at least as visible as another on any
-//!   display when it is no finer, its higher luminance no lower, its lower
-//!   luminance no higher (Michelson contrast with any black level grows
-//!   with the higher and falls with the lower luminance), its masker's
-//!   range lies within the other's (no more masking) and it is no smaller. Only the features no
-//!   other feature dominates that way (the Pareto set, [`most_visible`])
-//!   can decide a transition, so only they are stored.
+//! - **What is kept**: every feature with contrast ([`kept_features`]).
+//!   The run time pools a transition's features (visible differences add
+//!   up, `acuity::rows`), so a feature cannot be dropped because another
+//!   is more visible; only features whose two luminances are equal
+//!   (invisible on any display) are left out.
 
 use crate::Error;
 use crate::frequency::{self, FrequencyStatistic};
@@ -297,8 +295,8 @@ pub fn unique_features_of(
     }
 }
 
-/// A feature as [`most_visible`] compares it: frequency, the luminance
-/// pair `[lower, higher]`, the masker's range `[lowest, highest]` and area.
+/// A feature as the profile stores it: frequency, the luminance pair
+/// `[lower, higher]`, the masker's range `[lowest, highest]` and area.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Visibility {
     /// Frequency (any unit, the same for all).
@@ -312,54 +310,105 @@ pub struct Visibility {
 }
 
 impl Visibility {
-    /// At least as visible as `other` on any display: no finer, no less
-    /// contrast on either side, no more masking, no smaller.
-    pub fn dominates(&self, other: &Visibility) -> bool {
-        self.freq <= other.freq
-            && self.area >= other.area
-            && self.luminance[0] <= other.luminance[0]
-            && self.luminance[1] >= other.luminance[1]
-            && self.masker[0] >= other.masker[0]
-            && self.masker[1] <= other.masker[1]
+    /// Michelson contrast of the luminance pair on a display whose black
+    /// is 0: the highest it has on any display, 0 when the two are equal.
+    pub fn largest_contrast(&self) -> f32 {
+        let [lo, hi] = self.luminance;
+        if hi > lo { (hi - lo) / (hi + lo) } else { 0.0 }
     }
 }
 
-/// The indices of the features no other feature dominates
-/// ([`Visibility::dominates`]), ascending by frequency. Features without
-/// contrast (equal luminances) or with non-finite values are never
-/// visible and are left out; of features equal in every respect the first
-/// is kept. O(n k) for n features of which k are kept.
-pub fn most_visible(features: &[Visibility]) -> Vec<usize> {
+/// The indices of the features a profile keeps, ascending by frequency:
+/// every feature that has contrast (unequal luminances) and finite values,
+/// since the run time pools them all. Above `max` such features (a noisy
+/// texture at the largest rung), the `max` with the largest
+/// `largest_contrast() * sqrt(area)` are kept (the most visible at the CSF's
+/// peak under linear spatial summation), and the rest are dropped.
+pub fn kept_features(features: &[Visibility], max: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..features.len())
         .filter(|&i| {
             let f = &features[i];
-            let [lo, hi] = f.luminance;
             f.freq.is_finite()
                 && f.area.is_finite()
-                && lo.is_finite()
-                && hi.is_finite()
+                && f.luminance.iter().all(|l| l.is_finite())
                 && f.masker.iter().all(|m| m.is_finite())
-                && hi > lo
+                && f.largest_contrast() > 0.0
         })
         .collect();
-    // Lower frequency first, so that a feature can only be dominated by
-    // one before it or one of equal frequency.
+    if order.len() > max {
+        let weight = |i: usize| features[i].largest_contrast() * features[i].area.max(0.0).sqrt();
+        order.sort_by(|&i, &j| weight(j).total_cmp(&weight(i)).then(i.cmp(&j)));
+        order.truncate(max);
+    }
     order.sort_by(|&i, &j| {
         features[i]
             .freq
             .total_cmp(&features[j].freq)
             .then(i.cmp(&j))
     });
-    let mut kept: Vec<usize> = Vec::new();
-    for i in order {
-        let f = &features[i];
-        if kept.iter().any(|&k| features[k].dominates(f)) {
-            continue;
-        }
-        kept.retain(|&k| !f.dominates(&features[k]));
-        kept.push(i);
+    order
+}
+
+/// Widths of the bins [`summarise`] groups features by, in octaves:
+/// frequency, area, contrast (at black 0), mean luminance, masker contrast
+/// and masker mean.
+pub const SUMMARY_BIN_OCTAVES: [f32; 6] = [0.25, 0.5, 0.25, 0.25, 0.5, 0.5];
+
+/// Groups features that are alike into one record each, with a count: the
+/// summary a profile stores. Features fall in one group when they share a
+/// bin of [`SUMMARY_BIN_OCTAVES`] in frequency, area, contrast, mean
+/// luminance, masker contrast and masker mean; the group's record is their
+/// envelope, at least as visible as each of them on any display: the
+/// lowest frequency, the largest area, the lowest of their lower and the
+/// highest of their higher luminances, and the least masker (the highest
+/// masker floor, with the smallest masker range above it: a lower
+/// Michelson contrast than each member's for any black level). Pooling
+/// `count` copies of the record therefore never understates the group.
+/// Records come out ascending by frequency; features without contrast or
+/// with non-finite values are left out.
+pub fn summarise(features: &[Visibility]) -> Vec<(Visibility, u32)> {
+    use std::collections::BTreeMap;
+    let bin = |v: f32, octaves: f32| (v.max(1e-9).log2() / octaves).floor() as i32;
+    let mut groups: BTreeMap<[i32; 6], (Visibility, u32, f32)> = BTreeMap::new();
+    for i in kept_features(features, usize::MAX) {
+        let f = features[i];
+        let [lo, hi] = f.luminance;
+        let [mlo, mhi] = f.masker;
+        let masker_contrast = if mhi > mlo {
+            (mhi - mlo) / (mhi + mlo)
+        } else {
+            0.0
+        };
+        let o = SUMMARY_BIN_OCTAVES;
+        let key = [
+            bin(f.freq, o[0]),
+            bin(f.area, o[1]),
+            bin(f.largest_contrast(), o[2]),
+            bin(0.5 * (lo + hi) + 1e-3, o[3]),
+            bin(masker_contrast + 1e-3, o[4]),
+            bin(0.5 * (mlo + mhi) + 1e-3, o[5]),
+        ];
+        groups
+            .entry(key)
+            .and_modify(|(g, n, width)| {
+                g.freq = g.freq.min(f.freq);
+                g.area = g.area.max(f.area);
+                g.luminance = [g.luminance[0].min(lo), g.luminance[1].max(hi)];
+                g.masker[0] = g.masker[0].max(mlo);
+                *width = width.min(mhi - mlo);
+                *n += 1;
+            })
+            .or_insert((f, 1, mhi - mlo));
     }
-    kept
+    let mut out: Vec<(Visibility, u32)> = groups
+        .into_values()
+        .map(|(mut g, n, width)| {
+            g.masker[1] = (g.masker[0] + width.max(0.0)).min(1.0);
+            (g, n)
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.freq.total_cmp(&b.0.freq));
+    out
 }
 
 #[cfg(test)]
@@ -390,50 +439,74 @@ mod tests {
     }
 
     #[test]
-    fn a_dominated_feature_is_dropped_and_the_front_is_kept() {
+    fn every_feature_with_contrast_is_kept_coarsest_first() {
         let f = [
-            v(1.0, [0.1, 0.5]),  // kept: coarsest
-            v(2.0, [0.1, 0.4]),  // dominated by 0 (finer, less contrast)
-            v(2.0, [0.0, 0.4]),  // kept: darker low side
-            v(3.0, [0.2, 0.9]),  // kept: brighter high side
-            v(4.0, [0.3, 0.3]),  // no contrast
-            v(5.0, [0.0, 0.95]), // kept
-            v(6.0, [0.05, 0.9]), // dominated by 5
-            Visibility {
-                masker: [0.2, 0.3],
-                ..v(7.0, [0.05, 0.9])
-            }, // kept: less masked than 5 and 6
+            v(3.0, [0.2, 0.9]),
+            v(1.0, [0.1, 0.5]),
+            v(2.0, [0.1, 0.4]), // less visible than the one before: kept too
+            v(4.0, [0.3, 0.3]), // no contrast
+            v(f32::NAN, [0.0, 0.9]),
+            v(2.0, [0.0, 0.4]),
         ];
-        assert_eq!(most_visible(&f), vec![0, 2, 3, 5, 7]);
+        assert_eq!(kept_features(&f, 100), vec![1, 2, 5, 0]);
     }
 
     #[test]
-    fn the_pareto_set_matches_brute_force() {
-        // A small deterministic generator: the same features every run.
-        let mut rng = XorShiftRng::seed_from_u64(0x2545_f491_4f6c_dd1d);
+    fn above_the_cap_the_faint_and_small_go_first() {
+        let f = [
+            v(1.0, [0.45, 0.5]),
+            Visibility {
+                area: 0.01,
+                ..v(2.0, [0.0, 1.0])
+            },
+            v(3.0, [0.0, 1.0]),
+            v(4.0, [0.2, 0.8]),
+        ];
+        // Weights: 0.053, 0.1, 1, 0.6.
+        assert_eq!(kept_features(&f, 2), vec![2, 3]);
+        assert_eq!(kept_features(&f, 3), vec![1, 2, 3]);
+    }
+
+    /// Michelson contrast of `[lo, hi]` with black `black` added.
+    fn on_display(pair: [f32; 2], black: f32) -> f32 {
+        (pair[1] - pair[0]) / (pair[1] + pair[0] + 2.0 * black)
+    }
+
+    #[test]
+    fn a_summary_record_is_at_least_as_visible_as_each_feature_it_counts_on_any_display() {
+        let mut rng = XorShiftRng::seed_from_u64(0x5eed);
         let mut next = || rng.random::<f32>();
-        for n in [0, 1, 5, 50, 300] {
-            let mut pair = || {
-                let (a, b) = ((next() * 8.0).round() / 8.0, (next() * 8.0).round() / 8.0);
-                [a.min(b), a.max(b)]
-            };
-            let f: Vec<Visibility> = (0..n)
-                .map(|_| Visibility {
-                    luminance: pair(),
-                    masker: pair(),
-                    freq: (pair()[1] * 6.0).round() + 1.0,
-                    area: (pair()[0] * 3.0).round(),
-                })
-                .collect();
-            let dominates = |j: usize, i: usize| f[j].dominates(&f[i]);
-            let mut want: Vec<usize> = (0..n)
-                .filter(|&i| f[i].luminance[1] > f[i].luminance[0])
-                .filter(|&i| !(0..n).any(|j| j != i && dominates(j, i) && (f[j] != f[i] || j < i)))
-                .collect();
-            let mut got = most_visible(&f);
-            want.sort_unstable();
-            got.sort_unstable();
-            assert_eq!(got, want, "n = {n}");
+        let features: Vec<Visibility> = (0..2000)
+            .map(|_| {
+                let (a, b) = (next(), next());
+                let (c, d) = (next(), next());
+                Visibility {
+                    freq: 1.0 + 30.0 * next(),
+                    area: 1e-4 + 0.01 * next(),
+                    luminance: [a.min(b), a.max(b)],
+                    masker: [c.min(d), c.max(d)],
+                }
+            })
+            .collect();
+        let summary = summarise(&features);
+        assert!(summary.len() < features.len());
+        assert_eq!(summary.iter().map(|s| s.1).sum::<u32>(), 2000);
+        assert!(summary.windows(2).all(|w| w[0].0.freq <= w[1].0.freq));
+        // Every feature is covered by a record of its bins: check each
+        // against the record whose envelope holds it.
+        for f in &features {
+            let covering = summary.iter().any(|(g, _)| {
+                g.freq <= f.freq
+                    && g.area >= f.area
+                    && [0.0, 0.01, 0.3].iter().all(|&black| {
+                        on_display(g.luminance, black) >= on_display(f.luminance, black) - 1e-6
+                            && on_display(g.masker, black) <= on_display(f.masker, black) + 1e-6
+                    })
+            });
+            assert!(covering, "{f:?}");
+        }
+        for (g, _) in &summary {
+            assert!(g.masker[0] <= g.masker[1] && g.masker[1] <= 1.0, "{g:?}");
         }
     }
 }

@@ -58,7 +58,7 @@ use crate::{Error, Mesh};
 
 /// Version of the analysis algorithm, part of the settings hash so that
 /// profiles made by an older algorithm are not reused.
-pub const ANALYSIS_VERSION: u32 = 2;
+pub const ANALYSIS_VERSION: u32 = 3;
 
 /// Settings of the analysis.
 #[derive(Debug, Clone, PartialEq)]
@@ -336,8 +336,8 @@ impl ObjectAnalysis {
 pub struct TransitionAnalysis {
     /// Number of unique features found; 0 when the two LODs look the same.
     pub feature_count: u32,
-    /// The features that can be the most visible (the Pareto set of
-    /// [`features::most_visible`]), ascending by frequency.
+    /// The features with contrast, grouped with their like
+    /// ([`features::summarise`]), ascending by frequency.
     pub features: Vec<FeatureRecord>,
 }
 
@@ -355,6 +355,9 @@ pub struct FeatureRecord {
     /// Relative linear luminance range `[lowest, highest]` of what masks
     /// it (see [`UniqueFeature::masker`]).
     pub masker: [f32; 2],
+    /// How many measured features the record stands for
+    /// ([`features::summarise`]).
+    pub count: u32,
 }
 
 impl TransitionAnalysis {
@@ -683,8 +686,9 @@ fn measure_view(
 }
 
 /// Builds a [`TransitionAnalysis`] from measured features: frequencies in
-/// c/diam for a bounding sphere `diameter_px` across, reduced to the
-/// features that can be the most visible.
+/// c/diam for a bounding sphere `diameter_px` across, those with contrast
+/// grouped with their like ([`features::summarise`]; at most the profile
+/// format's limit of records, the most visible kept).
 pub fn transition_from(features: &[UniqueFeature], diameter_px: f32) -> TransitionAnalysis {
     let all: Vec<Visibility> = features
         .iter()
@@ -695,15 +699,25 @@ pub fn transition_from(features: &[UniqueFeature], diameter_px: f32) -> Transiti
             masker: f.masker,
         })
         .collect();
+    let mut summary = features::summarise(&all);
+    let cap = acuity::profile::MAX_FEATURES;
+    if summary.len() > cap {
+        let records: Vec<Visibility> = summary.iter().map(|s| s.0).collect();
+        summary = features::kept_features(&records, cap)
+            .into_iter()
+            .map(|i| summary[i])
+            .collect();
+    }
     TransitionAnalysis {
         feature_count: features.len() as u32,
-        features: features::most_visible(&all)
+        features: summary
             .into_iter()
-            .map(|i| FeatureRecord {
-                freq_cdiam: all[i].freq,
-                area_diam2: all[i].area,
-                luminance: all[i].luminance,
-                masker: all[i].masker,
+            .map(|(f, count)| FeatureRecord {
+                freq_cdiam: f.freq,
+                area_diam2: f.area,
+                luminance: f.luminance,
+                masker: f.masker,
+                count,
             })
             .collect(),
     }

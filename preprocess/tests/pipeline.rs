@@ -306,7 +306,7 @@ fn default_settings_have_a_pinned_cache_key() {
     // with a new ANALYSIS_VERSION or a new setting.
     assert_eq!(
         AnalysisSettings::default().cache_key(),
-        "analysis v2; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
+        "analysis v3; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
          grouping=change_sign; threshold_delta_e_bits=0x40133333; feret_directions=8; \
          msaa_samples=4; statistic=thickness; background_srgb=0,0,0"
     );

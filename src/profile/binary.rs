@@ -15,7 +15,8 @@
 //!                             features list of { freq_cdiam f32,
 //!                                                area_diam2 f32,
 //!                                                luminance 2 x f32,
-//!                                                masker 2 x f32 } }
+//!                                                masker 2 x f32,
+//!                                                count u32 } }
 //! settings          list of { key string, value string }  (sorted by key)
 //! inputs           list of { what string, hash_hex string }
 //! checksum         u64, FNV-1a of every byte before it
@@ -72,6 +73,7 @@ pub fn encode(profile: &Profile) -> Result<Vec<u8>> {
             for v in f.luminance.into_iter().chain(f.masker) {
                 put_f32(&mut w, v);
             }
+            put_u32(&mut w, f.count);
         }
     }
     put_len(&mut w, profile.settings.len());
@@ -144,7 +146,7 @@ pub fn decode(bytes: &[u8]) -> Result<Profile> {
     let mut transitions = Vec::with_capacity(n);
     for _ in 0..n {
         let feature_count = r.u32("transitions.feature_count")?;
-        let m = r.len(24, "transitions.features")?;
+        let m = r.len(28, "transitions.features")?;
         let features = (0..m)
             .map(|_| {
                 let freq_cdiam = r.f32("transitions.features.freq_cdiam")?;
@@ -155,6 +157,7 @@ pub fn decode(bytes: &[u8]) -> Result<Profile> {
                     area_diam2,
                     luminance: pair("transitions.features.luminance")?,
                     masker: pair("transitions.features.masker")?,
+                    count: r.u32("transitions.features.count")?,
                 })
             })
             .collect::<Result<_>>()?;

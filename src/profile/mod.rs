@@ -7,9 +7,10 @@
 //! object diameter (c/diam: independent of the display; a frequency of `f`
 //! c/diam on an object `theta` degrees across is `f / theta` c/deg), the pair of relative linear
 //! luminances it shows in the two renderings (its contrast once a display
-//! is known) and the luminance range it sits on (what masks it). Only the features that can be the most visible are stored
-//! (no other feature is coarser, brighter on its bright side and darker on
-//! its dark side at once). It also records the analysis settings and the
+//! is known), the luminance range it sits on (what masks it) and its area.
+//! Every feature whose two luminances differ is stored: the run time pools
+//! a transition's features (visible differences add up), so none can be
+//! left out because another is more visible. It also records the analysis settings and the
 //! hashes of the inputs, so an unchanged object is not analysed again.
 //!
 //! Nothing in a profile depends on the display: pixels per degree, the
@@ -38,8 +39,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 
 /// The format version this build reads and writes. Version 1 stored one
-/// lowest frequency per transition, without contrast or on-screen sizes.
-pub const PROFILE_FORMAT_VERSION: u32 = 2;
+/// lowest frequency per transition, without contrast or on-screen sizes;
+/// version 2 only each transition's most visible features (those no other
+/// feature beat on frequency, contrast, masking and area at once), which
+/// cannot be summed.
+pub const PROFILE_FORMAT_VERSION: u32 = 3;
 /// Most LODs a profile may have (the selection stores LOD indices in a byte).
 pub const MAX_LODS: usize = 64;
 /// Most viewpoints a profile may have.
@@ -84,12 +88,12 @@ pub struct Profile {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransitionFeatures {
-    /// How many unique features the analysis found (at least
-    /// `features.len()`); 0 when the two LODs look the same, so the
+    /// How many unique features the analysis found (at least the sum of
+    /// the features' `count`); 0 when the two LODs look the same, so the
     /// transition never costs detail.
     pub feature_count: u32,
-    /// The features that can be the most visible, ascending by frequency
-    /// (see the module docs).
+    /// The features, ascending by frequency (see the module docs): all of
+    /// them, unless the analysis found more than [`MAX_FEATURES`].
     pub features: Vec<Feature>,
 }
 
@@ -112,6 +116,11 @@ pub struct Feature {
     /// feature sits on, in whichever rendering has the smaller: the
     /// contrast that masks it.
     pub masker: [f32; 2],
+    /// How many measured features this record stands for (>= 1): each of
+    /// them no finer, no larger, of no more contrast and no more masked
+    /// than the record on any display, so pooling the record `count` times
+    /// never understates the transition.
+    pub count: u32,
 }
 
 /// A content hash of one analysis input.
@@ -228,11 +237,13 @@ impl Profile {
             ));
         }
         for (i, t) in self.transitions.iter().enumerate() {
-            if t.features.len() > MAX_FEATURES || t.features.len() > t.feature_count as usize {
+            let counted: u64 = t.features.iter().map(|f| u64::from(f.count)).sum();
+            if t.features.len() > MAX_FEATURES || counted > u64::from(t.feature_count) {
                 return Err(bad(
                     format!("transitions[{i}].features"),
                     format!(
-                        "{} features; at most {MAX_FEATURES} and at most feature_count ({})",
+                        "{} records standing for {counted} features; at most {MAX_FEATURES} records, \
+                         standing for at most feature_count ({})",
                         t.features.len(),
                         t.feature_count
                     ),
@@ -251,6 +262,9 @@ impl Profile {
                     ));
                 }
                 prev = f.freq_cdiam;
+                if f.count == 0 {
+                    return Err(bad(field("count"), "0 is not a count >= 1".into()));
+                }
                 if !(f.area_diam2.is_finite() && f.area_diam2 > 0.0 && f.area_diam2 <= 1.0) {
                     return Err(bad(
                         field("area_diam2"),
@@ -412,12 +426,14 @@ pub(crate) mod tests {
                                 area_diam2: 0.01,
                                 luminance: [0.1, 0.12],
                                 masker: [0.1, 0.12],
+                                count: 2,
                             },
                             Feature {
                                 freq_cdiam: 2.0 * f,
                                 area_diam2: 0.002,
                                 luminance: [0.0, 0.5],
                                 masker: [0.0, 0.9],
+                                count: 1,
                             },
                         ]
                     };

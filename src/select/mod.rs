@@ -64,6 +64,7 @@ use crate::camera::{Camera, Gaze};
 use crate::csf::Observer;
 
 mod adjust;
+mod best_effort;
 mod changes;
 mod dispatch;
 mod frame;
@@ -194,6 +195,9 @@ pub struct SelectorSettings {
     pub parallel_min_objects: usize,
     /// Lowest `s` the budgeted selection may use, in `(0, 1]`.
     pub min_scale: f32,
+    /// How [`Selector::select_within_budget`] spends a triangle budget
+    /// (default: [`BudgetRule::BestEffort`]).
+    pub budget_rule: BudgetRule,
     /// The widest vector instructions the loop may use, detected at run
     /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
     /// results are bit-identical at every level (nothing is fused or
@@ -310,6 +314,7 @@ impl Default for SelectorSettings {
             velocity_time_constant_s: 0.05,
             parallel_min_objects: 32_768,
             min_scale: 0.01,
+            budget_rule: BudgetRule::default(),
             simd: SimdLevel::Widest,
             observer: Observer::default(),
             eccentricity_model: EccentricityModel::default(),
@@ -322,6 +327,22 @@ impl Default for SelectorSettings {
             defer_coarsening_s: 0.0,
         }
     }
+}
+
+/// How a triangle budget is spent when the LODs at the frame's `s` do not
+/// fit ([`Selector::select_within_budget`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BudgetRule {
+    /// Coarsen first where the predicted visibility per triangle saved is
+    /// lowest (Luebke & Hallen 2001 §4; Funkhouser & Séquin 1993's benefit
+    /// over cost): objects that save many triangles at a barely visible
+    /// cost go before those that save few.
+    #[default]
+    BestEffort,
+    /// Lower one `s` for every object until the triangles fit (Reddy
+    /// 1998's global scale): the least visible detail first, whatever it
+    /// saves.
+    UniformScale,
 }
 
 /// An object to select LODs for.

@@ -22,7 +22,7 @@ use super::rule::count_coarser;
 use super::store::{Block, BudgetEntry, MotionBlock};
 use super::tables::{CompiledProfile, Ladder, ProfileRows, RowLayout, Tables};
 use super::{
-    BudgetOutcome, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId,
+    BudgetOutcome, BudgetRule, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, Selection, SelectorSettings, ViewpointRule,
 };
 
@@ -119,6 +119,10 @@ pub struct Selector {
     /// before's (swapped each frame; capacity for every object).
     pub(super) deferred: Vec<(u32, f32)>,
     pub(super) deferred_before: Vec<(u32, f32)>,
+    /// The best-effort budget's heap storage and per-slot adjustment
+    /// index, kept between frames.
+    pub(super) steps: Vec<super::best_effort::Step>,
+    pub(super) adjusted_of: Vec<u32>,
 }
 
 impl Selector {
@@ -157,6 +161,8 @@ impl Selector {
             in_saccade: None,
             deferred: Vec::new(),
             deferred_before: Vec::new(),
+            steps: Vec::new(),
+            adjusted_of: Vec::new(),
         }
     }
 
@@ -284,7 +290,7 @@ impl Selector {
         multi + self.single_triangles()
     }
 
-    fn single_triangles(&self) -> u64 {
+    pub(super) fn single_triangles(&self) -> u64 {
         self.singles
             .iter()
             .zip(&self.selections[self.multi()..])
@@ -327,17 +333,24 @@ impl Selector {
         Ok(())
     }
 
-    /// Predictive fixed-frame-rate selection (after Funkhouser & Séquin
-    /// 1993, with `s` as the one knob): picks the largest `s` in
-    /// `[settings.min_scale, frame.scale]` whose LODs together stay within
-    /// `triangle_budget`, before anything is drawn, and selects with it.
-    /// Objects' biases and LOD ranges apply as in [`select`](Self::select).
+    /// Selection within a triangle budget, decided before anything is
+    /// drawn (the predictive fixed-frame-rate scheduler's step, after
+    /// Funkhouser & Séquin 1993): starting from the LODs at `frame.scale`,
+    /// coarsens until the triangles fit `triangle_budget` or no step
+    /// allowed by [`SelectorSettings::min_scale`] is left, by the rule of
+    /// [`SelectorSettings::budget_rule`]:
+    /// - [`BudgetRule::BestEffort`]: the cheapest step in predicted
+    ///   visibility per triangle saved first (`best_effort`);
+    /// - [`BudgetRule::UniformScale`]: the largest `s` in
+    ///   `[min_scale, frame.scale]` whose LODs fit, one `s` for every
+    ///   object. Every object's LOD is a step function of `s` with
+    ///   breakpoints at `prefix_min / (H u)` (see [`crate::rows`]); the
+    ///   breakpoints' triangle savings are binned over `log s` (256 bins),
+    ///   and the chosen `s` is checked against the exact count.
     ///
-    /// Every object's LOD is a step function of `s` with breakpoints at
-    /// `prefix_min / (H u)` (see [`crate::rows`]); the breakpoints' triangle savings
-    /// are binned over `log s` (256 bins), and the chosen `s` is checked
-    /// against the exact count. Lowering `s` always drops the least
-    /// visible detail first.
+    /// Objects' biases and LOD ranges apply as in [`select`](Self::select).
+    /// The outcome's `scale` is the `s` chosen (uniform) or the lowest `s`
+    /// at which a step taken is invisible (best effort).
     pub fn select_within_budget(
         &mut self,
         frame: &FrameInput,
@@ -346,6 +359,30 @@ impl Selector {
         let s_max = checked_scale(frame.scale)?;
         self.run(frame, 1.0, false, true)?;
         self.bias_budget_entries();
+        let (scale, mut triangles) = match self.settings.budget_rule {
+            BudgetRule::BestEffort => self.best_effort_within(s_max, triangle_budget),
+            BudgetRule::UniformScale => {
+                let (scale, triangles) = self.uniform_scale_within(s_max, triangle_budget);
+                self.apply_budget_scale(scale);
+                (scale, triangles)
+            }
+        };
+        if !self.adjusted.is_empty() {
+            self.apply_adjustments(false, false);
+        }
+        // Switches waiting for a saccade hold finer LODs only within the
+        // budget's room.
+        triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
+        Ok(BudgetOutcome {
+            scale,
+            triangles,
+            within_budget: triangles <= triangle_budget,
+        })
+    }
+
+    /// The largest `s` in `[min_scale, s_max]` whose LODs fit
+    /// `triangle_budget` (or `min_scale`), and the triangles at it.
+    fn uniform_scale_within(&self, s_max: f32, triangle_budget: u64) -> (f32, u64) {
         let fixed = self.single_triangles();
         let s_min = self.settings.min_scale.clamp(1e-6, s_max);
         let mut scale = s_max;
@@ -405,23 +442,12 @@ impl Selector {
                 bin -= 1;
             }
         }
-        self.apply_budget_scale(scale);
-        if !self.adjusted.is_empty() {
-            self.apply_adjustments(false, false);
-        }
-        // Switches waiting for a saccade hold finer LODs only within the
-        // budget's room.
-        triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
-        Ok(BudgetOutcome {
-            scale,
-            triangles,
-            within_budget: triangles <= triangle_budget,
-        })
+        (scale, triangles)
     }
 
     /// The LOD an object with budget entry `entry` takes at scale `s`,
     /// before its LOD range.
-    fn lod_at(&self, entry: &BudgetEntry, profile: usize, scale: f32) -> usize {
+    pub(super) fn lod_at(&self, entry: &BudgetEntry, profile: usize, scale: f32) -> usize {
         let p = &self.profiles[profile];
         count_coarser(
             &self.rows[entry.row as usize..][..p.lod_count - 1],

@@ -60,6 +60,7 @@ fn profile(rng: &mut Rng, lods: usize, views: usize) -> Profile {
                         freq_cdiam: 200.0 / (1 << (t % (lods - 1))) as f32 * (1.2 + rng.next(0.6)),
                         luminance: [lo, lo + rng.next(0.25) + 0.25],
                         masker: [0.0, rng.next(0.5) + 0.5],
+                        count: 1,
                     }
                 })
                 .collect();

@@ -88,12 +88,14 @@ pub fn four_lod_profile(seed: u64) -> Profile {
                             area_diam2: 0.002,
                             luminance: [0.0, 0.5],
                             masker: [0.0, 0.5],
+                            count: 1,
                         },
                         Feature {
                             freq_cdiam: 0.5 * f,
                             area_diam2: 0.02,
                             luminance: [0.4, 0.42],
                             masker: [0.4, 0.42],
+                            count: 1,
                         },
                     ]
                     .into_iter()

@@ -31,6 +31,13 @@ pub struct ErrorArgs {
     /// FLIP even where a viewer fixating the gaze cannot see them.
     #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
     pub acuity_policies: Vec<String>,
+    /// Triangle budgets as shares of full detail's triangles in view,
+    /// comma-separated, in (0, 1]: each runs `acuity_best_effort` (the
+    /// least visible detail per triangle first) and
+    /// `acuity_budget_uniform` (one `s` lowered for all) under that budget
+    /// (default: none).
+    #[arg(long, value_delimiter = ',')]
+    pub budgets: Vec<f64>,
     /// Frames per configuration, spread over the scene's path.
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
     pub frames: u32,
@@ -71,6 +78,9 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if let Some(s) = args.scales.iter().find(|s| !(**s > 0.0 && **s <= 1.0)) {
         crate::bail_input!("scale factor {s} is not in (0, 1]");
     }
+    if let Some(b) = args.budgets.iter().find(|b| !(**b > 0.0 && **b <= 1.0)) {
+        crate::bail_input!("budget share {b} is not in (0, 1]");
+    }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
         let p = crate::scene::policy_by_name(name)?;
@@ -109,6 +119,9 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     for &p in &acuity_policies {
         configs.extend(args.scales.iter().map(|&s| (p, s)));
     }
+    for p in Policy::BUDGETED {
+        configs.extend(args.budgets.iter().map(|&b| (p, b)));
+    }
     let mut player = Player::new(&world, settings.clone())?;
     let bar = crate::progress::bar(
         u64::from(settings.frames) * configs.len() as u64,
@@ -134,10 +147,10 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
     );
     let mut csv = String::from(
-        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s\n",
+        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999\n",
     );
     let jod_head = if fvvdp {
-        format!(" {:>6} {:>10}", "JOD", "vs scr JOD")
+        format!(" {:>6} {:>10} {:>9}", "JOD", "vs scr JOD", "JOD p99.9")
     } else {
         String::new()
     };
@@ -165,7 +178,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3}",
+            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{}",
             s.policy.name(),
             s.knob,
             s.mean_ms,
@@ -179,12 +192,14 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             text(s.jod, &|r| format!("{r:.4}"), ""),
             text(ratio_jod, &|r| format!("{r:.4}"), ""),
             s.reversals_per_s,
+            text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
         );
         let jod_cols = if fvvdp {
             format!(
-                " {:>6} {:>10}",
+                " {:>6} {:>10} {:>9}",
                 text(s.jod, &|j| format!("{j:.3}"), "-"),
-                text(ratio_jod, &|r| format!("{r:.2}x"), "-")
+                text(ratio_jod, &|r| format!("{r:.2}x"), "-"),
+                text(s.jod_local_p999, &|r| format!("{r:.3}"), "-")
             )
         } else {
             String::new()
@@ -218,6 +233,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
         Series {
             name: match p {
                 Policy::ScreenSize => "screen size (bias)".into(),
+                _ if p.is_budgeted() => format!("{} (budget)", p.name()),
                 _ => format!("{} (s)", p.name()),
             },
             points: pts,
@@ -263,6 +279,11 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
                 y_label: (*ylabel).into(),
                 series: std::iter::once(Policy::ScreenSize)
                     .chain(acuity_policies.iter().copied())
+                    .chain(
+                        Policy::BUDGETED
+                            .into_iter()
+                            .filter(|_| !args.budgets.is_empty()),
+                    )
                     .map(|p| curve(p, *x, *y))
                     .collect(),
                 log_x: false,

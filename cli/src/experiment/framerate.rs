@@ -63,6 +63,7 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         Policy::AcuityAll,
         Policy::AcuityReactive,
         Policy::AcuityPredictive,
+        Policy::AcuityPredictiveUniform,
     ];
     let bar = crate::progress::bar(
         u64::from(settings.frames) * policies.len() as u64,

@@ -417,6 +417,16 @@ pub enum Policy {
     AcuityReactive,
     /// Acuity, all components, predictive fixed-frame-rate scheduler.
     AcuityPredictive,
+    /// Acuity, all components, under a triangle budget (a share of full
+    /// detail's triangles, the experiment's knob), spent best effort:
+    /// the least visible detail per triangle first.
+    AcuityBestEffort,
+    /// As [`Policy::AcuityBestEffort`], with one `s` lowered for every
+    /// object until the budget fits.
+    AcuityBudgetUniform,
+    /// As [`Policy::AcuityPredictive`], with one `s` lowered for every
+    /// object until the predicted frame fits (the rule before best effort).
+    AcuityPredictiveUniform,
 }
 
 impl Policy {
@@ -432,6 +442,24 @@ impl Policy {
         Policy::AcuityReactive,
         Policy::AcuityPredictive,
     ];
+
+    /// The policies under a fixed share of full detail's triangles, not in
+    /// [`Policy::ALL`] (scenes and runs name them explicitly; `experiment
+    /// error --budgets` sweeps them).
+    pub const BUDGETED: [Policy; 2] = [Policy::AcuityBestEffort, Policy::AcuityBudgetUniform];
+
+    /// Policies that scenes and runs may name besides [`Policy::ALL`].
+    pub const EXTRA: [Policy; 3] = [
+        Policy::AcuityBestEffort,
+        Policy::AcuityBudgetUniform,
+        Policy::AcuityPredictiveUniform,
+    ];
+
+    /// Whether this policy selects under a share of full detail's
+    /// triangles ([`Policy::BUDGETED`]).
+    pub fn is_budgeted(self) -> bool {
+        Self::BUDGETED.contains(&self)
+    }
 
     /// Whether this is an acuity policy whose scale factor `s` is fixed
     /// (not set by a scheduler), so it can be swept across `s`.
@@ -458,6 +486,9 @@ impl Policy {
             Policy::AcuityAll => "acuity_all",
             Policy::AcuityReactive => "acuity_reactive",
             Policy::AcuityPredictive => "acuity_predictive",
+            Policy::AcuityBestEffort => "acuity_best_effort",
+            Policy::AcuityBudgetUniform => "acuity_budget_uniform",
+            Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
         }
     }
 }
@@ -475,16 +506,14 @@ pub fn check_cross_fade_s(cross_fade_s: f64) -> Result<(), String> {
 
 /// A policy by its scene-file name.
 pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
-    Policy::ALL
-        .into_iter()
-        .find(|p| p.name() == name.trim())
-        .ok_or_else(|| {
-            let names: Vec<&str> = Policy::ALL.iter().map(|p| p.name()).collect();
-            crate::exit::input_error(format!(
-                "unknown policy `{name}` (known: {})",
-                names.join(", ")
-            ))
-        })
+    let known = || Policy::ALL.into_iter().chain(Policy::EXTRA);
+    known().find(|p| p.name() == name.trim()).ok_or_else(|| {
+        let names: Vec<&str> = known().map(|p| p.name()).collect();
+        crate::exit::input_error(format!(
+            "unknown policy `{name}` (known: {})",
+            names.join(", ")
+        ))
+    })
 }
 
 /// Run settings.

@@ -47,6 +47,7 @@ pub(super) struct RawObserver {
     pub(super) sensitivity: Option<f32>,
     pub(super) masking: Option<f32>,
     pub(super) pooling_area_deg2: Option<f32>,
+    pub(super) threshold_jnd: Option<f32>,
     pub(super) eccentricity_model: Option<acuity::EccentricityModel>,
     pub(super) velocity_model: Option<acuity::VelocityModel>,
 }

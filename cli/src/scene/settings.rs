@@ -19,6 +19,7 @@ impl Ctx<'_> {
             sensitivity: o.sensitivity.unwrap_or(d.sensitivity),
             masking: o.masking.unwrap_or(d.masking),
             pooling_area_deg2: o.pooling_area_deg2.unwrap_or(d.pooling_area_deg2),
+            threshold_jnd: o.threshold_jnd.unwrap_or(d.threshold_jnd),
         };
         match observer.validate() {
             Err(acuity::Error::InvalidParameter { name, reason }) => {
