@@ -590,6 +590,28 @@ fn zero_and_negative_dt_keep_velocities() {
     }
 }
 
+/// Selects within `fraction` of `full` triangles and checks that the
+/// budget is met and reported as the selection's count.
+fn met_budget(
+    sel: &mut Selector,
+    frame: &FrameInput,
+    full: u64,
+    fraction: f64,
+) -> (acuity::BudgetOutcome, u64) {
+    let budget = (full as f64 * fraction) as u64;
+    let out = sel.select_within_budget(frame, budget).unwrap();
+    assert!(
+        out.within_budget && out.triangles <= budget,
+        "{fraction}: {out:?}"
+    );
+    assert_eq!(
+        out.triangles,
+        sel.triangles(),
+        "the reported count is the selection's"
+    );
+    (out, budget)
+}
+
 #[test]
 fn the_uniform_budget_is_met_with_the_largest_scale_that_fits() {
     let settings = SelectorSettings {
@@ -601,17 +623,7 @@ fn the_uniform_budget_is_met_with_the_largest_scale_that_fits() {
     sel.select(&frame).unwrap();
     let full_acuity = sel.triangles();
     for fraction in [1.5, 0.8, 0.5, 0.3] {
-        let budget = (full_acuity as f64 * fraction) as u64;
-        let out = sel.select_within_budget(&frame, budget).unwrap();
-        assert!(
-            out.within_budget && out.triangles <= budget,
-            "{fraction}: {out:?}"
-        );
-        assert_eq!(
-            out.triangles,
-            sel.triangles(),
-            "the reported count is the selection's"
-        );
+        let (out, budget) = met_budget(&mut sel, &frame, full_acuity, fraction);
         if fraction >= 1.0 {
             assert_eq!(out.scale, 1.0);
         } else {
@@ -641,13 +653,7 @@ fn best_effort_meets_the_budget_and_only_ever_coarsens_what_s_max_chose() {
     let at_one = lods(&sel, &ids);
     let full_acuity = sel.triangles();
     for fraction in [1.5, 0.8, 0.5, 0.3] {
-        let budget = (full_acuity as f64 * fraction) as u64;
-        let out = sel.select_within_budget(&frame, budget).unwrap();
-        assert!(
-            out.within_budget && out.triangles <= budget,
-            "{fraction}: {out:?}"
-        );
-        assert_eq!(out.triangles, sel.triangles());
+        let (out, _) = met_budget(&mut sel, &frame, full_acuity, fraction);
         if fraction >= 1.0 {
             assert_eq!(out.scale, 1.0);
             assert_eq!(lods(&sel, &ids), at_one);

@@ -90,7 +90,8 @@ impl Selector {
                 }
             }
         }
-        let mut heap = BinaryHeap::from(std::mem::take(&mut self.steps));
+        let mut steps = std::mem::take(&mut self.steps);
+        steps.clear();
         let mut triangles = self.single_triangles();
         for slot in 0..multi {
             let entry = self.budget[slot];
@@ -103,9 +104,11 @@ impl Selector {
             let adjust = adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             if let Some(step) = self.next_step(slot, &entry, adjust, lod, s_min) {
-                heap.push(step);
+                steps.push(step);
             }
         }
+        // Heapify in one pass, O(n).
+        let mut heap = BinaryHeap::from(steps);
         let mut reached = s_max;
         while triangles > triangle_budget {
             let Some(step) = heap.pop() else { break };
