@@ -12,61 +12,53 @@
 //! becomes invisible, so `v = 1` is just imperceptible and a larger `v` is
 //! further above threshold. Its cost is `ln(v) / saved` (0 at the edge of
 //! visibility; in units of log-acuity per triangle), and the greedy takes
-//! the cheapest step of all objects, one at a time from a binary heap,
-//! until the triangles fit. A uniform `s` takes the steps in order of `v`
-//! alone, so an object that would save 3000 triangles at a barely visible
+//! the cheapest step of all objects until the triangles fit. A uniform
+//! `s` takes the steps in order of `v` alone, so an object that would save 3000 triangles at a barely visible
 //! cost waits behind one that saves 40 at the same cost; the greedy does
 //! not.
+//!
+//! A step may only be taken after the object's steps before it, so each
+//! step counts at the highest cost of its chain so far (a running maximum
+//! along the object's LODs); taking steps in order of that cost is what a
+//! heap that pops the cheapest available step does, and it needs no heap:
+//! the savings are binned over the logarithm of the cost (1024 bins, a
+//! 20th of an octave each), the bin where they reach what the budget needs
+//! is found, every step below it is taken and, within it, steps in object
+//! order until the triangles fit. Three passes over the objects, no
+//! allocation.
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
 //! [`SelectorSettings::min_scale`](super::SelectorSettings::min_scale),
-//! and reports as its scale the lowest `s = 1 / v` it reached. The heap's
-//! storage is kept between frames, so a frame allocates nothing once it
-//! has grown to the number of objects.
-
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+//! and reports as its scale the lowest `s = 1 / v` it reached.
 
 use super::store::BudgetEntry;
 use super::{Selection, Selector};
 
 /// One object's next coarsening step.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Step {
+struct Step {
     /// `ln(v) / saved`: what the step costs per triangle it saves.
     cost: f32,
     /// The scale `s = 1 / v` at which the step becomes invisible.
     scale: f32,
     saved: u32,
-    slot: u32,
     to_lod: u8,
 }
 
-impl PartialEq for Step {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
+/// Bins of the cost histogram: bin 0 holds costs of 0 (steps at the edge
+/// of visibility), the rest [`BINS_PER_OCTAVE`] a binary octave from
+/// `2^LOWEST_OCTAVE`.
+const BINS: usize = 1024;
+const BINS_PER_OCTAVE: f32 = 20.0;
+const LOWEST_OCTAVE: f32 = -40.0;
 
-impl Eq for Step {}
-
-impl PartialOrd for Step {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
+fn bin_of(cost: f32) -> usize {
+    if cost.is_nan() || cost <= 0.0 {
+        return 0;
     }
-}
-
-impl Ord for Step {
-    /// Reversed, so that [`BinaryHeap`] (a max-heap) pops the cheapest
-    /// step; among equal costs the larger saving, then the lower slot.
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .cost
-            .total_cmp(&self.cost)
-            .then(self.saved.cmp(&other.saved))
-            .then(other.slot.cmp(&self.slot))
-    }
+    let b = (cost.log2() - LOWEST_OCTAVE) * BINS_PER_OCTAVE + 1.0;
+    (b.max(1.0) as usize).min(BINS - 1)
 }
 
 impl Selector {
@@ -90,8 +82,10 @@ impl Selector {
                 }
             }
         }
-        let mut steps = std::mem::take(&mut self.steps);
-        steps.clear();
+        let adjust_of = |slot: usize| adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
+        // Pass 1: the LODs at `s_max`, and every later step's saving
+        // binned by its cost.
+        let mut saved_by_bin = [0u64; BINS];
         let mut triangles = self.single_triangles();
         for slot in 0..multi {
             let entry = self.budget[slot];
@@ -101,30 +95,61 @@ impl Selector {
             let p = self.object_profiles[slot] as usize;
             let lod = self.lod_at(&entry, p, s_max);
             self.selections[slot] = Selection(lod as u8);
-            let adjust = adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
+            let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
-            if let Some(step) = self.next_step(slot, &entry, adjust, lod, s_min) {
-                steps.push(step);
+            let mut cost = 0.0f32;
+            let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
+            while let Some(step) = next {
+                cost = cost.max(step.cost);
+                saved_by_bin[bin_of(cost)] += u64::from(step.saved);
+                next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
             }
         }
-        // Heapify in one pass, O(n).
-        let mut heap = BinaryHeap::from(steps);
         let mut reached = s_max;
-        while triangles > triangle_budget {
-            let Some(step) = heap.pop() else { break };
-            let slot = step.slot as usize;
-            triangles -= u64::from(step.saved);
-            reached = reached.min(step.scale);
-            self.selections[slot] = Selection(step.to_lod);
-            let adjust = adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
-            let entry = self.budget[slot];
-            if let Some(next) = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min) {
-                heap.push(next);
+        if triangles > triangle_budget {
+            let needed = triangles - triangle_budget;
+            let mut cumulative = 0u64;
+            let threshold = saved_by_bin
+                .iter()
+                .position(|&s| {
+                    cumulative += s;
+                    cumulative >= needed
+                })
+                .unwrap_or(BINS);
+            // Pass 2: every step below the threshold's bin (all of them
+            // are needed); pass 3: in it, steps in object order while the
+            // triangles do not fit. A step left after pass 2 costs at least
+            // the threshold's bin, so pass 3's running maximum can start
+            // from 0.
+            for below in [true, false] {
+                for slot in 0..multi {
+                    let entry = self.budget[slot];
+                    if entry.row == u32::MAX {
+                        continue;
+                    }
+                    let adjust = adjust_of(slot);
+                    let mut cost = 0.0f32;
+                    let lod = self.selections[slot].0 as usize;
+                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
+                    while let Some(step) = next {
+                        cost = cost.max(step.cost);
+                        let bin = bin_of(cost);
+                        let take = if below {
+                            bin < threshold
+                        } else {
+                            bin == threshold && triangles > triangle_budget
+                        };
+                        if !take {
+                            break;
+                        }
+                        triangles -= u64::from(step.saved);
+                        reached = reached.min(step.scale);
+                        self.selections[slot] = Selection(step.to_lod);
+                        next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
+                    }
+                }
             }
         }
-        let mut steps = heap.into_vec();
-        steps.clear();
-        self.steps = steps;
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
     }
@@ -169,7 +194,6 @@ impl Selector {
                     cost: visibility.ln() / saved as f32,
                     scale,
                     saved,
-                    slot: slot as u32,
                     to_lod: (j + 1) as u8,
                 });
             }

@@ -119,9 +119,8 @@ pub struct Selector {
     /// before's (swapped each frame; capacity for every object).
     pub(super) deferred: Vec<(u32, f32)>,
     pub(super) deferred_before: Vec<(u32, f32)>,
-    /// The best-effort budget's heap storage and per-slot adjustment
-    /// index, kept between frames.
-    pub(super) steps: Vec<super::best_effort::Step>,
+    /// The best-effort budget's per-slot adjustment index, kept between
+    /// frames.
     pub(super) adjusted_of: Vec<u32>,
 }
 
@@ -161,7 +160,6 @@ impl Selector {
             in_saccade: None,
             deferred: Vec::new(),
             deferred_before: Vec::new(),
-            steps: Vec::new(),
             adjusted_of: Vec::new(),
         }
     }
