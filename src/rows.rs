@@ -112,15 +112,19 @@ impl SensitivityTable {
         }
     }
 
-    /// `ln S` at `ln u` (c/deg); `-inf` beyond the table.
+    /// `ln S` at `ln u` (c/deg); `-inf` beyond the table, never `NaN`.
     fn ln_at(&self, ln_freq_cpd: f32) -> f32 {
         let t = (ln_freq_cpd - self.ln_peak_cpd) / TABLE_STEP;
         if t.is_nan() || t <= 0.0 {
             return self.ln_sensitivity[0];
         }
         let i = t as usize;
+        let frac = t - i as f32;
         match (self.ln_sensitivity.get(i), self.ln_sensitivity.get(i + 1)) {
-            (Some(&a), Some(&b)) => a + (b - a) * (t - i as f32),
+            (Some(&a), Some(&b)) if b.is_finite() => a + (b - a) * frac,
+            // Past the last finite entry (sensitivity underflows to 0):
+            // nothing is visible, and no `inf - inf` is taken.
+            (Some(&a), _) if frac == 0.0 => a,
             _ => f32::NEG_INFINITY,
         }
     }
@@ -470,6 +474,31 @@ mod tests {
             assert!(two <= one, "{threshold}: {two} {one}");
             assert!(one <= previous, "{threshold}: {one} {previous}");
             previous = one;
+        }
+    }
+
+    #[test]
+    fn sensitivity_tables_follow_the_csf_fall_monotonically_and_never_give_nan() {
+        let (_, c) = csf();
+        for field_deg in [0.05, 0.3, 2.0, 60.0] {
+            let exact = c.for_field(field_deg);
+            let table = SensitivityTable::new(&exact);
+            let mut previous = f32::INFINITY;
+            for i in 0..=4000 {
+                let freq_cpd = 0.01 * 1.0025f32.powi(i);
+                let ln_s = table.ln_at(freq_cpd.ln());
+                assert!(!ln_s.is_nan() && ln_s <= previous, "{field_deg} {freq_cpd}");
+                previous = ln_s;
+                let s = exact.sensitivity(freq_cpd);
+                if s > 1e-3 {
+                    assert!(
+                        (ln_s.exp() / s - 1.0).abs() < 5e-3,
+                        "{field_deg} {freq_cpd}"
+                    );
+                }
+            }
+            assert_eq!(table.ln_at(f32::NAN), table.ln_peak_sensitivity());
+            assert_eq!(table.ln_at(1e3f32.ln()), f32::NEG_INFINITY);
         }
     }
 
