@@ -1,8 +1,9 @@
 //! A fixed frame rate with the predictive scheduler: each frame, a cost
-//! model turns the frame-time target into a triangle budget, the selector
-//! picks the largest global scale factor `s` whose LODs fit it (dropping
-//! the least visible detail first), the frame is "drawn", and its measured
-//! time refines the cost model.
+//! model turns the frame-time aim (90% of the period, less when frames
+//! vary) into a triangle budget, held while the frames stay in the dead
+//! band; the selector spends it, dropping the least visible detail per
+//! triangle first; the frame is "drawn", and its measured time refines the
+//! cost model.
 //!
 //! The renderer here is simulated: a frame costs 1 ms plus 40 ns per
 //! triangle, and from frame 60 to 120 something else slows drawing to
@@ -15,7 +16,8 @@
 mod common;
 
 use acuity::{
-    Camera, CostModel, Display, FrameInput, Gaze, ObjectDesc, Selector, SelectorSettings, Tracker,
+    Camera, CostModel, Display, FrameInput, Gaze, ObjectDesc, PredictiveScheduler,
+    ReactiveSettings, Selector, SelectorSettings, Tracker,
 };
 use common::demo_profile;
 use glam::{DVec3, Quat};
@@ -57,14 +59,15 @@ fn main() -> Result<(), acuity::Error> {
             profile,
         })?;
     }
-    // A first guess at the costs; the measured frames correct it. The
-    // budget aims 5% under the target, headroom for the model's lag.
-    let mut cost = CostModel::new(1e-3, 20e-9);
-    let aim_s = 0.95 * target_frame_s;
+    // A first guess at the costs; the measured frames correct it.
+    let mut scheduler = PredictiveScheduler::new(
+        ReactiveSettings::for_rate_hz(90.0)?,
+        CostModel::new(1e-3, 20e-9),
+    );
     let mut over = 0;
     println!("frame   budget  triangles      s  frame ms");
     for frame in 0..180u32 {
-        let budget = cost.triangle_budget(aim_s);
+        let budget = scheduler.triangle_budget();
         let outcome = selector.select_within_budget(
             &FrameInput {
                 camera: Camera {
@@ -78,7 +81,7 @@ fn main() -> Result<(), acuity::Error> {
             budget,
         )?;
         let frame_s = draw(frame, outcome.triangles);
-        cost.observe(frame_s, outcome.triangles);
+        scheduler.observe(frame_s, outcome.triangles, selector.coarsest_triangles());
         over += (frame_s > target_frame_s) as u32;
         if frame % 10 == 0 || (60..64).contains(&frame) {
             println!(

@@ -50,7 +50,7 @@ pub use crate::csf::{Observer, Photometry};
 pub use crate::display::{Display, FovEdges};
 pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
-pub use crate::schedule::{CostModel, ReactiveScheduler, ReactiveSettings};
+pub use crate::schedule::{CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
     BudgetOutcome, BudgetRule, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,

@@ -1,13 +1,33 @@
-//! Fixed frame rate: choosing the global scale factor `s`.
+//! Fixed frame rate: choosing the global scale factor `s`, or the
+//! triangle budget, that keeps frames inside their period.
 //!
 //! - [`ReactiveScheduler`] (Reddy 1998 §6) watches measured frame times:
-//!   it lowers `s` after a frame over the target period and raises it,
-//!   never above 1, when there was spare time.
-//! - The predictive mode (Funkhouser & Séquin 1993) lives in
-//!   [`Selector::select_within_budget`](crate::Selector::select_within_budget):
-//!   it spends a triangle budget before the frame is drawn (least visible
-//!   detail per triangle first, or one `s` for all). [`CostModel`] turns a frame-time target into that triangle
-//!   budget from measured frames.
+//!   it lowers `s` after a frame over its aim and raises it, never above 1,
+//!   when the frames have had spare time for a while.
+//! - [`PredictiveScheduler`] (Funkhouser & Séquin 1993) spends a triangle
+//!   budget before the frame is drawn, through
+//!   [`Selector::select_within_budget`](crate::Selector::select_within_budget)
+//!   (least visible detail per triangle first, or one `s` for all); its
+//!   [`CostModel`] turns the frame-time aim into that budget from measured
+//!   frames.
+//!
+//! Both aim below the frame period, not at it: at
+//! [`ReactiveSettings::headroom`] of it (90% by default), lower still when
+//! the frame times they see vary more (the aim leaves
+//! [`ReactiveSettings::variation_z`] standard deviations of a frame's
+//! relative variation), so that a frame that runs a little long still
+//! fits. Between the aim and `1 - dead_band` of it they change nothing (and
+//! so switch no LOD): a frame rate that fits is held, not chased.
+//!
+//! **The cost floor.** No LOD choice removes the frame's fixed time (what
+//! does not depend on triangles, including a load spike from elsewhere) nor
+//! the triangles of every visible object's coarsest LOD.
+//! [`CostModel::floor_s`] predicts that floor, assuming a change of load is
+//! additive (other work in the frame) and the per-triangle cost is the
+//! calibrated one. When the floor lies above the frame period, no `s`
+//! reaches the target: both schedulers say so (`target_unreachable`) and
+//! stop lowering `s` (or the budget), which would cost detail and buy no
+//! frame on time.
 //!
 //! Both are pure: they are given times, they read no clock.
 //!
@@ -42,21 +62,43 @@ pub fn check_target_hz(name: &'static str, rate_hz: f64) -> Result<()> {
     }
 }
 
-/// Tuning of the [`ReactiveScheduler`].
+/// Tuning of the [`ReactiveScheduler`] and the [`PredictiveScheduler`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReactiveSettings {
     /// Target frame period, s, e.g. `1.0 / 90.0`: 0.1 ms to 1 s (`1 /
-    /// MAX_TARGET_HZ` to `1 / MIN_TARGET_HZ`; [`ReactiveScheduler::new`]
-    /// clamps it there).
+    /// MAX_TARGET_HZ` to `1 / MIN_TARGET_HZ`; the schedulers clamp it
+    /// there).
     pub target_frame_s: f32,
-    /// Lowest `s`, in `(0, 1]`.
+    /// Fraction of the period the frames aim at, in `[0.5, 1]`; 0.9 leaves
+    /// a tenth of the period for a frame that runs long.
+    pub headroom: f32,
+    /// Standard deviations of the frames' relative variation (learned from
+    /// the measured frames) the aim leaves below the period, `[0, 10]`:
+    /// the aim is `period * min(headroom, 1 / (1 + variation_z sigma))`,
+    /// at least half the period.
+    pub variation_z: f32,
+    /// Lowest `s`, in `(0, 1]` (0.01 by default: low enough that most
+    /// objects reach their coarsest LOD, so a target the cost floor allows
+    /// is reached).
     pub min_scale: f32,
-    /// Exponent of the multiplicative step: `s *= (target / frame)^gain`.
+    /// Exponent of the multiplicative step: `s *= (aim / frame)^gain`.
     /// 0.5 moves half-way (in log terms) towards the estimated fit.
     pub gain: f32,
-    /// Frames between `(1 - dead_band) target` and `target` change nothing:
-    /// the band absorbs the step changes of discrete LODs.
+    /// Frames between `(1 - dead_band) aim` and `aim` change nothing: the
+    /// band absorbs the step changes of discrete LODs. `[0, 0.9]`; the
+    /// band is widened to 2.5 learned standard deviations of a frame's
+    /// relative variation where that is wider (with
+    /// [`steer_to_band_middle`](Self::steer_to_band_middle)).
     pub dead_band: f32,
+    /// Frames in a row, at least 1, that must lie below the dead band
+    /// before `s` (or the budget) rises, or above the aim (but within the
+    /// period) before it falls: one lucky or unlucky frame moves nothing.
+    /// A frame over the period acts at once.
+    pub settle_frames: u32,
+    /// Whether a move of the knob steers to the middle of the dead band
+    /// (so the frames' jitter leaves it on neither side), or to the aim
+    /// itself (as before headroom).
+    pub steer_to_band_middle: bool,
     /// Frame time ratios above this count as this much: one huge frame (a
     /// page fault, a shader compile) lowers `s` at most by
     /// `max_ratio^-gain`.
@@ -67,7 +109,7 @@ pub struct ReactiveSettings {
     /// blamed on the raise: that `s` becomes a ceiling not to reach again
     /// until the load drops. Larger overloads are spikes.
     pub spike_ratio: f32,
-    /// A frame faster than this fraction of the target means the load has
+    /// A frame faster than this fraction of the period means the load has
     /// dropped: the ceiling is lifted.
     pub clear_ratio: f32,
 }
@@ -80,19 +122,111 @@ impl ReactiveSettings {
         check_target_hz("rate_hz", f64::from(rate_hz))?;
         Ok(Self {
             target_frame_s: 1.0 / rate_hz,
-            min_scale: 0.05,
+            headroom: 0.9,
+            variation_z: 2.0,
+            min_scale: 0.01,
             gain: 0.5,
             dead_band: 0.1,
+            settle_frames: 3,
+            steer_to_band_middle: true,
             max_ratio: 4.0,
             max_raise: 1.25,
             spike_ratio: 2.0,
             clear_ratio: 0.5,
         })
     }
+
+    /// The settings of the controllers before headroom, learned variation
+    /// and settling: they aim at the period itself and act on every frame.
+    /// Kept to measure the controllers against.
+    pub fn without_headroom(self) -> Self {
+        Self {
+            headroom: 1.0,
+            variation_z: 0.0,
+            settle_frames: 1,
+            steer_to_band_middle: false,
+            ..self
+        }
+    }
+
+    /// The settings with every field clamped into its domain: the target
+    /// period into 0.1 ms to 1 s (`+inf` becomes 1 s; NaN, zero or a
+    /// negative period 1/60 s).
+    fn clamped(self) -> Self {
+        let mut s = self;
+        s.target_frame_s = if s.target_frame_s > 0.0 {
+            s.target_frame_s
+                .clamp(1.0 / MAX_TARGET_HZ, 1.0 / MIN_TARGET_HZ)
+        } else {
+            1.0 / 60.0
+        };
+        s.headroom = finite_or(s.headroom, 0.9).clamp(0.5, 1.0);
+        s.variation_z = finite_or(s.variation_z, 2.0).clamp(0.0, 10.0);
+        s.min_scale = finite_or(s.min_scale, 0.05).clamp(1e-6, 1.0);
+        s.gain = finite_or(s.gain, 0.5).clamp(0.01, 1.0);
+        s.dead_band = finite_or(s.dead_band, 0.1).clamp(0.0, 0.9);
+        s.settle_frames = s.settle_frames.max(1);
+        s.max_ratio = finite_or(s.max_ratio, 4.0).max(1.0);
+        s.max_raise = finite_or(s.max_raise, 1.25).max(1.0);
+        s.spike_ratio = finite_or(s.spike_ratio, 2.0).max(1.0);
+        s.clear_ratio = finite_or(s.clear_ratio, 0.5).clamp(0.0, 1.0);
+        s
+    }
+
+    /// The frame time aimed at, s, for a relative variation `sigma`.
+    fn aim_s(&self, sigma: f32) -> f32 {
+        let fraction = self
+            .headroom
+            .min(1.0 / (1.0 + self.variation_z * sigma))
+            .max(0.5);
+        fraction * self.target_frame_s
+    }
+
+    /// The frame time a move of the knob steers to: the middle of the
+    /// dead band below `aim_s`, so that the frames' jitter leaves it on
+    /// neither side.
+    fn steer_s(&self, aim_s: f32, sigma: f32) -> f32 {
+        if self.steer_to_band_middle {
+            (1.0 - 0.5 * self.band(sigma)) * aim_s
+        } else {
+            aim_s
+        }
+    }
+
+    /// The dead band's width, a fraction of the aim: at least
+    /// [`dead_band`](Self::dead_band), and wide enough for the frames'
+    /// jitter ([`BAND_SIGMAS`] learned standard deviations), at most 0.9.
+    fn band(&self, sigma: f32) -> f32 {
+        if self.steer_to_band_middle {
+            self.dead_band.max(BAND_SIGMAS * sigma).min(0.9)
+        } else {
+            self.dead_band
+        }
+    }
 }
 
 /// The smallest relative step down.
 const MIN_LOWER_FACTOR: f32 = 0.98;
+
+/// Weight of a frame in the learned relative variation.
+const VARIATION_RATE: f32 = 0.05;
+/// Largest relative change between two frames that counts towards the
+/// variation: a spike is not jitter.
+const VARIATION_CLIP: f32 = 0.25;
+/// The relative variation assumed before any frame is seen.
+const INITIAL_SIGMA: f32 = 0.03;
+/// Width of the dead band, at least, in learned standard deviations of a
+/// frame's relative variation.
+const BAND_SIGMAS: f32 = 2.5;
+/// The cost model's learning rate, at least, on a frame over the period.
+const MISS_LEARNING_RATE: f32 = 0.5;
+/// Slopes between frames the cost model needs before it predicts a floor.
+pub const FLOOR_SLOPES: u32 = 3;
+/// Weight of a slope between two frames in the cost model's local
+/// per-triangle cost.
+const LOCAL_SLOPE_RATE: f32 = 0.2;
+/// Weight of a frame in the smoothed frame time the dead band judges.
+const LEVEL_RATE: f32 = 0.3;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Step {
@@ -101,21 +235,119 @@ enum Step {
     Lower,
 }
 
+/// The learned relative variation of frame times, and the smoothed frame
+/// time since the knob last moved (shared by both schedulers).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FrameStats {
+    /// Mean square relative variation of one frame.
+    variance: f32,
+    /// Smoothed frame time since the knob last moved, s.
+    level_s: f32,
+    last_s: f32,
+    /// Frames seen since the knob last moved.
+    frames: u32,
+    /// Frames in a row whose smoothed time lay below the dead band / above
+    /// the aim.
+    calm: u32,
+    busy: u32,
+    /// Frames in a row over the period.
+    over: u32,
+}
+
+impl FrameStats {
+    fn new() -> Self {
+        Self {
+            variance: INITIAL_SIGMA * INITIAL_SIGMA,
+            level_s: 0.0,
+            last_s: 0.0,
+            frames: 0,
+            calm: 0,
+            busy: 0,
+            over: 0,
+        }
+    }
+
+    fn sigma(&self) -> f32 {
+        self.variance.sqrt()
+    }
+
+    /// Learns from a frame of `frame_s` (finite, positive) against the
+    /// aim's band.
+    fn observe(&mut self, frame_s: f32, aim_s: f32, dead_band: f32, period_s: f32) {
+        self.over = if frame_s > period_s { self.over + 1 } else { 0 };
+        if self.frames > 0 {
+            // Two frames at the same knob differ by sqrt(2) sigma.
+            let r = (frame_s / self.last_s)
+                .ln()
+                .clamp(-VARIATION_CLIP, VARIATION_CLIP);
+            self.variance += VARIATION_RATE * (0.5 * r * r - self.variance);
+            self.level_s += LEVEL_RATE * (frame_s - self.level_s);
+        } else {
+            self.level_s = frame_s;
+        }
+        self.last_s = frame_s;
+        self.frames += 1;
+        self.calm = if self.level_s < (1.0 - dead_band) * aim_s {
+            self.calm + 1
+        } else {
+            0
+        };
+        self.busy = if self.level_s > aim_s {
+            self.busy + 1
+        } else {
+            0
+        };
+    }
+
+    /// Learns from a frame of `frame_s` (finite, positive) against the aim
+    /// and band of `settings` before it; returns that aim.
+    fn see(&mut self, settings: &ReactiveSettings, frame_s: f32) -> f32 {
+        let sigma = self.sigma();
+        let aim = settings.aim_s(sigma);
+        self.observe(frame_s, aim, settings.band(sigma), settings.target_frame_s);
+        aim
+    }
+
+    /// Whether the frame just seen missed the period clearly: by more than
+    /// the dead band (beyond the jitter), or for the second frame in a row.
+    fn missed(&self, frame_s: f32, period_s: f32, band: f32) -> bool {
+        frame_s > (1.0 + band) * period_s || self.over >= 2
+    }
+
+    /// The knob moved: the level starts again.
+    fn moved(&mut self) {
+        self.frames = 0;
+        self.calm = 0;
+        self.busy = 0;
+    }
+}
+
 /// The reactive fixed-frame-rate controller for `s`.
 ///
+/// It aims at [`ReactiveSettings::headroom`] of the period (less when the
+/// frames vary more; the module docs). A frame over the period lowers `s`
+/// at once; otherwise `s` moves only after
+/// [`ReactiveSettings::settle_frames`] frames in a row above the aim
+/// (lower) or below its dead band (raise).
+///
 /// Stability: the step is proportional in log terms with gain 0.5, which
-/// converges without overshoot for frame costs up to quadratic in `s`; a
+/// converges without overshoot for frame costs up to quadratic in `s`; the
 /// dead band stops it hunting between two discrete LOD levels; and an `s`
 /// whose raise overloaded the frame becomes a ceiling (lowered 3% below),
 /// so the controller cannot cycle between a level that fits and one that
-/// does not. The ceiling is lifted when a frame comes in under half the
-/// target, i.e. the load itself has dropped.
+/// does not. The ceiling is lifted when a frame comes in under
+/// [`ReactiveSettings::clear_ratio`] of the period, i.e. the load itself
+/// has dropped.
 #[derive(Clone, Debug)]
 pub struct ReactiveScheduler {
     settings: ReactiveSettings,
     scale: f32,
     ceiling: Option<f32>,
     last: Step,
+    stats: FrameStats,
+    unreachable: bool,
+    /// `s` before the spike that lowered it, until calm frames return it.
+    before_spike: Option<f32>,
 }
 
 impl ReactiveScheduler {
@@ -123,25 +355,14 @@ impl ReactiveScheduler {
     /// clamped into them: the target period into 0.1 ms to 1 s (`+inf`
     /// becomes 1 s; NaN, zero or a negative period 1/60 s).
     pub fn new(settings: ReactiveSettings) -> Self {
-        let mut s = settings;
-        s.target_frame_s = if s.target_frame_s > 0.0 {
-            s.target_frame_s
-                .clamp(1.0 / MAX_TARGET_HZ, 1.0 / MIN_TARGET_HZ)
-        } else {
-            1.0 / 60.0
-        };
-        s.min_scale = finite_or(s.min_scale, 0.05).clamp(1e-6, 1.0);
-        s.gain = finite_or(s.gain, 0.5).clamp(0.01, 1.0);
-        s.dead_band = finite_or(s.dead_band, 0.1).clamp(0.0, 0.9);
-        s.max_ratio = finite_or(s.max_ratio, 4.0).max(1.0);
-        s.max_raise = finite_or(s.max_raise, 1.25).max(1.0);
-        s.spike_ratio = finite_or(s.spike_ratio, 2.0).max(1.0);
-        s.clear_ratio = finite_or(s.clear_ratio, 0.5).clamp(0.0, 1.0);
         Self {
-            settings: s,
+            settings: settings.clamped(),
             scale: 1.0,
             ceiling: None,
             last: Step::Hold,
+            stats: FrameStats::new(),
+            unreachable: false,
+            before_spike: None,
         }
     }
 
@@ -155,40 +376,95 @@ impl ReactiveScheduler {
         &self.settings
     }
 
+    /// The frame time aimed at now, s (the headroom and the learned
+    /// variation applied).
+    pub fn aim_s(&self) -> f32 {
+        self.settings.aim_s(self.stats.sigma())
+    }
+
+    /// The learned relative variation of a frame's time (a standard
+    /// deviation; 0.03 before any frame).
+    pub fn relative_variation(&self) -> f32 {
+        self.stats.sigma()
+    }
+
+    /// Whether the last frame's cost floor lay above the period (see
+    /// [`update_with_floor`](Self::update_with_floor)).
+    pub fn target_unreachable(&self) -> bool {
+        self.unreachable
+    }
+
     /// Feeds the measured time of the frame just drawn (s) and returns the
     /// `s` for the next. A time that is zero, negative or not finite
     /// changes nothing.
     pub fn update(&mut self, frame_time_s: f32) -> f32 {
+        self.update_with_floor(frame_time_s, None)
+    }
+
+    /// As [`update`](Self::update), told the frame's cost floor (s: the
+    /// time of the frame at every object's coarsest LOD,
+    /// [`CostModel::floor_s`]). While the floor lies above the period, no
+    /// `s` reaches the target: `s` is not lowered, and
+    /// [`target_unreachable`](Self::target_unreachable) says so. A floor
+    /// that is `None` or not finite is unknown.
+    pub fn update_with_floor(&mut self, frame_time_s: f32, floor_s: Option<f32>) -> f32 {
         if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
             return self.scale;
         }
-        let st = &self.settings;
-        let ratio = (frame_time_s / st.target_frame_s).min(st.max_ratio);
+        let st = self.settings;
+        self.unreachable = floor_s.is_some_and(|f| f.is_finite() && f > st.target_frame_s);
+        let aim = self.stats.see(&st, frame_time_s);
         let old = self.scale;
-        if ratio > 1.0 {
-            if self.last == Step::Raise && ratio <= st.spike_ratio {
+        let missed =
+            self.stats
+                .missed(frame_time_s, st.target_frame_s, st.band(self.stats.sigma()));
+        let settled = self.stats.frames >= st.settle_frames;
+        if (missed || self.stats.busy >= st.settle_frames) && !self.unreachable {
+            let measured = if missed {
+                frame_time_s
+            } else {
+                self.stats.level_s.max(aim)
+            };
+            let ratio = (measured / st.steer_s(aim, self.stats.sigma())).min(st.max_ratio);
+            let spike = frame_time_s / st.target_frame_s > st.spike_ratio;
+            // The first move down since a raise (not for a spike) blames
+            // the raise.
+            if self.last == Step::Raise && !spike {
                 self.ceiling = Some(old);
             }
-            // At least a 2% step: a frame barely over budget would otherwise
+            // One frame far over the period, after one within it, may be a
+            // spike, not a new load: if calm frames follow, `s` returns to
+            // where it was. A second frame over the period is a load.
+            self.before_spike =
+                (spike && self.stats.over == 1 && self.stats.frames > 1).then_some(old);
+            // At least a 2% step: a frame barely over its aim would otherwise
             // creep towards the next LOD step for hundreds of frames.
             self.scale = (old * ratio.powf(-st.gain).min(MIN_LOWER_FACTOR)).max(st.min_scale);
-        } else if ratio < 1.0 - st.dead_band {
-            if ratio < st.clear_ratio {
+        } else if settled && self.stats.calm >= st.settle_frames {
+            let level = self.stats.level_s.max(frame_time_s);
+            if level < st.clear_ratio * st.target_frame_s {
                 self.ceiling = None;
             }
+            let ratio = (level / st.steer_s(aim, self.stats.sigma())).min(st.max_ratio);
             let mut next = old * ratio.powf(-st.gain).min(st.max_raise);
+            if let Some(s0) = self.before_spike.take() {
+                next = next.max(s0);
+            }
             if let Some(c) = self.ceiling {
                 next = next.min(0.97 * c);
             }
             self.scale = next.clamp(st.min_scale, 1.0).max(old.min(1.0));
         }
-        self.last = if self.scale > old {
-            Step::Raise
+        // `last` is the last move, holds in between kept.
+        if self.scale > old {
+            self.last = Step::Raise;
         } else if self.scale < old {
-            Step::Lower
-        } else {
-            Step::Hold
-        };
+            self.last = Step::Lower;
+        }
+        // Frames out of reach say nothing of the load after them.
+        if self.scale != old || self.unreachable {
+            self.stats.moved();
+        }
         self.scale
     }
 }
@@ -197,42 +473,242 @@ fn finite_or(x: f32, fallback: f32) -> f32 {
     if x.is_finite() { x } else { fallback }
 }
 
+/// The predictive fixed-frame-rate controller: the triangle budget for the
+/// next frame, from a [`CostModel`] and the frame-time aim (the module
+/// docs), held while the frames stay in the dead band below the aim.
+///
+/// The budget falls after a frame over the period by more than the dead
+/// band, or [`ReactiveSettings::settle_frames`] frames in a row over the
+/// aim, to
+/// what the cost model says fits the middle of the dead band; it rises
+/// after as many frames in a row below the band, by half the band at
+/// least. As for the reactive controller, a budget whose raise overloaded
+/// the frame becomes a ceiling until the load drops, and while the cost
+/// floor lies above the period the budget does not fall.
+#[derive(Clone, Debug)]
+pub struct PredictiveScheduler {
+    settings: ReactiveSettings,
+    cost: CostModel,
+    held: Option<u64>,
+    /// A budget whose raise overloaded the frame, until the load drops.
+    ceiling: Option<u64>,
+    /// Whether the last move of the budget was a raise.
+    last_raised: bool,
+    stats: FrameStats,
+    unreachable: bool,
+}
+
+impl PredictiveScheduler {
+    /// A controller with the settings (clamped as for
+    /// [`ReactiveScheduler::new`]) and a starting cost model.
+    pub fn new(settings: ReactiveSettings, cost: CostModel) -> Self {
+        Self {
+            settings: settings.clamped(),
+            cost,
+            held: None,
+            ceiling: None,
+            last_raised: false,
+            stats: FrameStats::new(),
+            unreachable: false,
+        }
+    }
+
+    /// The settings in use (after clamping).
+    pub fn settings(&self) -> &ReactiveSettings {
+        &self.settings
+    }
+
+    /// The cost model as learned so far.
+    pub fn cost_model(&self) -> &CostModel {
+        &self.cost
+    }
+
+    /// The frame time aimed at now, s.
+    pub fn aim_s(&self) -> f32 {
+        self.settings.aim_s(self.stats.sigma())
+    }
+
+    /// Whether the last frame's cost floor lay above the period.
+    pub fn target_unreachable(&self) -> bool {
+        self.unreachable
+    }
+
+    /// The triangle budget for the next frame.
+    pub fn triangle_budget(&mut self) -> u64 {
+        let fresh = self
+            .cost
+            .triangle_budget(self.settings.steer_s(self.aim_s(), self.stats.sigma()));
+        *self.held.get_or_insert(fresh)
+    }
+
+    /// Feeds back the frame just drawn: its time (s), the triangles it
+    /// drew and those it would have drawn with every visible object at its
+    /// coarsest LOD (for the cost floor). Invalid times change nothing.
+    pub fn observe(&mut self, frame_time_s: f32, triangles: u64, coarsest_triangles: u64) {
+        if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
+            return;
+        }
+        let st = self.settings;
+        // A frame clearly over the period (by more than the dead band,
+        // beyond the jitter) is news of more load: learn it at once (a
+        // budget shrunk in proportion never overshoots).
+        let band = st.band(self.stats.sigma());
+        let rate = self.cost.learning_rate;
+        if frame_time_s > (1.0 + band) * st.target_frame_s {
+            self.cost.learning_rate = rate.max(MISS_LEARNING_RATE);
+        }
+        self.cost.observe(frame_time_s, triangles);
+        self.cost.learning_rate = rate;
+        self.unreachable = self
+            .cost
+            .floor_s(coarsest_triangles)
+            .is_some_and(|f| f > st.target_frame_s);
+        let aim = self.stats.see(&st, frame_time_s);
+        let fresh = self
+            .cost
+            .triangle_budget(st.steer_s(aim, self.stats.sigma()));
+        let missed = self.stats.missed(frame_time_s, st.target_frame_s, band);
+        let Some(held) = self.held else {
+            self.held = Some(fresh);
+            return;
+        };
+        if frame_time_s < st.clear_ratio * st.target_frame_s {
+            self.ceiling = None;
+        }
+        let lower = (missed || self.stats.busy >= st.settle_frames) && fresh < held;
+        // A raise must pay: by half the dead band at least, and below a
+        // budget whose raise overloaded the frame.
+        let cap = self.ceiling.map_or(u64::MAX, |c| (0.97 * c as f64) as u64);
+        let raised = fresh.min(cap);
+        let raise = self.stats.frames >= st.settle_frames
+            && self.stats.calm >= st.settle_frames
+            && raised as f64 > held as f64 * (1.0 + 0.5 * f64::from(band));
+        if lower && !self.unreachable {
+            let spike = frame_time_s > st.spike_ratio * st.target_frame_s;
+            if self.last_raised && !spike {
+                self.ceiling = Some(held);
+            }
+            self.last_raised = false;
+            self.held = Some(fresh);
+            self.stats.moved();
+        } else if raise {
+            self.last_raised = true;
+            self.held = Some(raised);
+            self.stats.moved();
+        } else if self.unreachable {
+            self.stats.moved();
+        }
+    }
+}
+
 /// A linear frame-cost model, `frame_s = fixed_s + per_triangle_s *
 /// triangles`, fitted online from measured frames, that turns a target
 /// frame time into the triangle budget for
-/// [`Selector::select_within_budget`](crate::Selector::select_within_budget).
+/// [`Selector::select_within_budget`](crate::Selector::select_within_budget),
+/// and predicts the frame's cost floor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CostModel {
     /// Time per frame that does not depend on triangles, s.
     pub fixed_s: f32,
-    /// Time per triangle, s.
+    /// Time per triangle, s, as learned: a frame slower than predicted
+    /// raises it (so a budget shrinks in proportion, which never
+    /// overshoots).
     pub per_triangle_s: f32,
     /// Weight of a new observation in the running fit, `(0, 1]`.
     pub learning_rate: f32,
+    /// The per-triangle cost given to [`new`](Self::new) (the calibrated
+    /// one), s.
+    calibrated_per_triangle_s: f32,
+    /// The per-triangle cost where the frames are, s ([`Self::floor_s`]).
+    local_per_triangle_s: f32,
+    /// Time beyond `fixed_s` the last frames took that the local
+    /// per-triangle cost does not explain, s: extra load (half of it moves
+    /// each frame; a load of half the frame or more at once).
+    extra_load_s: f32,
+    /// The last frame measured: time, s, and triangles.
+    last_frame: (f32, u64),
+    /// Slopes measured into `local_per_triangle_s`.
+    slopes: u32,
 }
 
 impl CostModel {
-    /// A model with an initial guess.
+    /// A model with an initial guess (or a calibration).
     pub fn new(fixed_s: f32, per_triangle_s: f32) -> Self {
+        let per_triangle_s = finite_or(per_triangle_s, 1e-8).max(1e-15);
         Self {
             fixed_s: finite_or(fixed_s, 0.0).max(0.0),
-            per_triangle_s: finite_or(per_triangle_s, 1e-8).max(1e-15),
+            per_triangle_s,
             learning_rate: 0.1,
+            calibrated_per_triangle_s: per_triangle_s,
+            local_per_triangle_s: per_triangle_s,
+            extra_load_s: 0.0,
+            last_frame: (0.0, 0),
+            slopes: 0,
         }
     }
 
-    /// Updates the per-triangle cost from a measured frame (time in s and
-    /// the triangles it drew). Invalid measurements change nothing.
+    /// Updates the per-triangle cost and the extra load from a measured
+    /// frame (time in s and the triangles it drew). Invalid measurements
+    /// change nothing.
     pub fn observe(&mut self, frame_time_s: f32, triangles: u64) {
-        if !(frame_time_s.is_finite() && frame_time_s > 0.0) || triangles == 0 {
+        if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
+            return;
+        }
+        let a = self.learning_rate.clamp(1e-3, 1.0);
+        let (t0, n0) = self.last_frame;
+        let (n0, n1) = (n0 as f32, triangles as f32);
+        if n0 > 0.0 && (n1 - n0).abs() > 0.1 * n1.max(n0) {
+            let slope = (frame_time_s - t0) / (n1 - n0);
+            let cal = self.calibrated_per_triangle_s;
+            if slope.is_finite() {
+                let slope = slope.clamp(0.25 * cal, 4.0 * cal);
+                self.local_per_triangle_s += LOCAL_SLOPE_RATE * (slope - self.local_per_triangle_s);
+                self.slopes = self.slopes.saturating_add(1);
+            }
+        }
+        let unexplained = frame_time_s - self.fixed_s - self.local_per_triangle_s * n1;
+        // A load of half the frame or more shows at once (a spike's first
+        // frame already counts); otherwise the load moves half-way.
+        let unexplained = unexplained.max(0.0);
+        self.extra_load_s = if unexplained > 0.5 * frame_time_s {
+            unexplained
+        } else {
+            0.5 * (self.extra_load_s + unexplained)
+        };
+        self.last_frame = (frame_time_s, triangles);
+        if triangles == 0 {
             return;
         }
         let measured = ((frame_time_s - self.fixed_s).max(0.0) / triangles as f32).max(1e-15);
-        let a = self.learning_rate.clamp(1e-3, 1.0);
         self.per_triangle_s += a * (measured - self.per_triangle_s);
     }
 
-    /// The most triangles that fit in `target_frame_s` seconds: 0 when the
+    /// The predicted time of a frame at every visible object's coarsest
+    /// LOD, s, under the load of the last frames: no choice of LOD makes a
+    /// frame faster. It is the last frames' time less what their triangles
+    /// beyond `coarsest_triangles` cost at the local per-triangle cost (a
+    /// change of load taken as additive: other work in the frame). The
+    /// local cost starts at the calibrated one and follows the slope
+    /// between consecutive frames whose triangles differ by more than 10%
+    /// (within a quarter and four times the calibrated cost), so that a
+    /// frame cost that is not linear in the triangles is read where the
+    /// frames are.
+    /// `None` until that slope has been measured [`FLOOR_SLOPES`] times:
+    /// a calibration is not trusted to call a target out of reach.
+    pub fn floor_s(&self, coarsest_triangles: u64) -> Option<f32> {
+        (self.slopes >= FLOOR_SLOPES).then_some(
+            self.fixed_s
+                + self.extra_load_s
+                + self.local_per_triangle_s * coarsest_triangles as f32,
+        )
+    }
+
+    /// The most triangles that fit in `target_frame_s` seconds, by the
+    /// lower of two readings of the frames: the learned per-triangle cost
+    /// (a change of load proportional to the triangles) and, once its local
+    /// cost is measured ([`Self::floor_s`]), the extra load kept and the
+    /// local per-triangle cost (a change of load that is additive); so a
+    /// load of either kind is met within a frame or two. 0 when the
     /// target leaves no time after `fixed_s` (or is NaN), at most
     /// [`MAX_TRIANGLE_BUDGET`] (a target of `+inf` included). Never
     /// decreases as the target grows.
@@ -242,7 +718,13 @@ impl CostModel {
             return 0;
         }
         let per_triangle = f64::from(self.per_triangle_s.max(1e-15));
-        let budget = spare / per_triangle;
+        let mut budget = spare / per_triangle;
+        if self.slopes >= FLOOR_SLOPES {
+            // The additive reading: the extra load stays, the rest costs the
+            // local per-triangle cost.
+            let local = f64::from(self.local_per_triangle_s.max(1e-15));
+            budget = budget.min((spare - f64::from(self.extra_load_s)).max(0.0) / local);
+        }
         if budget >= MAX_TRIANGLE_BUDGET as f64 {
             MAX_TRIANGLE_BUDGET
         } else {

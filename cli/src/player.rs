@@ -101,6 +101,12 @@ pub struct FrameRecord {
     pub scale: f32,
     /// The predictive scheduler's triangle budget, if any.
     pub triangle_budget: Option<u64>,
+    /// Whether the scheduler found this frame's cost floor above the frame
+    /// period (no LOD choice could reach the target); `None` for policies
+    /// without a scheduler that sees the floor.
+    pub target_unreachable: Option<bool>,
+    /// Whether the frame fell in a load spike ([`PlaySettings::load_spikes`]).
+    pub in_spike: bool,
     /// Mean per-pixel FLIP against full detail, on sampled frames.
     pub flip_mean: Option<f32>,
     /// 95th percentile of per-pixel FLIP, on sampled frames.
@@ -248,7 +254,7 @@ impl<'w> Player<'w> {
             .iter()
             .map(|&p| match p {
                 Policy::Full => (p, 1.0),
-                Policy::ScreenSize => (p, screen_size_bias),
+                Policy::ScreenSize | Policy::ScreenSizeReactive => (p, screen_size_bias),
                 _ => (p, s),
             })
             .collect();
@@ -289,9 +295,9 @@ impl<'w> Player<'w> {
         let mut runners = configs
             .iter()
             .map(|&(p, knob)| {
-                let bias = if p == Policy::ScreenSize { knob } else { 1.0 };
+                let bias = if p.is_screen_size() { knob } else { 1.0 };
                 let mut r = PolicyRunner::new(world, p, bias, cost)?;
-                if p != Policy::Full && p != Policy::ScreenSize {
+                if p != Policy::Full && !p.is_screen_size() {
                     r.set_knob(knob);
                 }
                 Ok(r)
@@ -337,12 +343,12 @@ impl<'w> Player<'w> {
                 let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
                 let selected = start.elapsed();
                 let out = world.render_faded(&view, &lods, runner.fades())?;
-                if let Some(&(_, _, ms)) = self
+                let spike = self
                     .settings
                     .load_spikes
                     .iter()
-                    .find(|(a, b, _)| (*a..*b).contains(&view.t_s))
-                {
+                    .find(|(a, b, _)| (*a..*b).contains(&view.t_s));
+                if let Some(&(_, _, ms)) = spike {
                     spin(start.elapsed().as_secs_f64() + ms * 1e-3, start);
                 }
                 let frame_s = start.elapsed().as_secs_f64();
@@ -373,6 +379,8 @@ impl<'w> Player<'w> {
                     lod_reversals: switched.reversals,
                     scale: choice.scale,
                     triangle_budget: choice.triangle_budget,
+                    target_unreachable: runner.target_unreachable(),
+                    in_spike: spike.is_some(),
                     flip_mean: None,
                     flip_p95: None,
                 };

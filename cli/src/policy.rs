@@ -1,7 +1,8 @@
 //! The LOD policies `acuity run` compares, each
 //! over the same camera path: full detail, screen-size thresholds, acuity
 //! with a set of model components, and acuity under the reactive or the
-//! predictive fixed-frame-rate scheduler.
+//! predictive fixed-frame-rate scheduler (and screen size under the
+//! reactive one, the controller a user would write without acuity).
 //!
 //! With the scene's `cross_fade_s` set, each switch between two LODs fades
 //! over that time ([`PolicyRunner::fades`]): the acuity policies take the
@@ -20,8 +21,8 @@ use crate::screen_size::{
     BelowLast, ScreenSizeChoice, ScreenSizeLod, relative_height, thresholds_from,
 };
 use acuity::{
-    BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, ReactiveScheduler,
-    ReactiveSettings, Selector, SelectorSettings,
+    BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, PredictiveScheduler,
+    ReactiveScheduler, ReactiveSettings, Selector, SelectorSettings,
 };
 
 /// The model components a policy selects with; `None` for policies that do
@@ -35,7 +36,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         })
     };
     match policy {
-        Policy::Full | Policy::ScreenSize => None,
+        Policy::Full | Policy::ScreenSize | Policy::ScreenSizeReactive => None,
         Policy::AcuitySize => c(true, false, false),
         Policy::AcuitySizeEcc => c(true, true, false),
         Policy::AcuitySizeVel => c(true, false, true),
@@ -44,10 +45,22 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityReactive
         | Policy::AcuityPredictive
         | Policy::AcuityPredictiveUniform
+        | Policy::AcuityReactiveNoHeadroom
+        | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
         | Policy::AcuityBudgetUniform => c(true, true, true),
     }
 }
+
+/// The switch hysteresis of the policies a frame-rate scheduler drives
+/// ([`SelectorSettings::switch_hysteresis`]): their `s` moves, so objects
+/// near a transition would otherwise switch back and forth with it.
+pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = 0.15;
+
+/// The least time an object of those policies holds an LOD before it
+/// coarsens ([`SelectorSettings::switch_min_dwell_s`]), s: a quarter
+/// second, the window within which a switch back reads as flicker.
+pub const SCHEDULED_MIN_DWELL_S: f32 = 0.25;
 
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +69,18 @@ pub struct Choice {
     pub scale: f32,
     /// Triangle budget of the predictive scheduler, if it set one.
     pub triangle_budget: Option<u64>,
+}
+
+/// A policy's fixed-frame-rate controller.
+enum Scheduler {
+    /// Reactive: `s` from measured frame times, with a cost model for the
+    /// cost floor (`None`: blind to it).
+    Reactive(ReactiveScheduler, Option<CostModel>),
+    /// Predictive: a triangle budget from a cost model.
+    Predictive(PredictiveScheduler),
+    /// The predictive scheduler before headroom: the budget of the whole
+    /// period from a cost model, every frame.
+    PredictiveNoHeadroom(CostModel),
 }
 
 /// A policy's state over a run: a selector (with velocity history) and,
@@ -67,9 +92,7 @@ pub struct PolicyRunner {
     pursued: Option<ObjectId>,
     screen: Vec<ScreenSizeLod>,
     scale: f32,
-    reactive: Option<ReactiveScheduler>,
-    cost: Option<CostModel>,
-    target_frame_s: f32,
+    scheduler: Option<Scheduler>,
     /// The budgeted policies' share of full detail's triangles.
     budget_share: Option<f64>,
     /// Full detail's triangles over the objects in view last frame (all
@@ -92,7 +115,8 @@ impl PolicyRunner {
         cost: CostModel,
     ) -> anyhow::Result<PolicyRunner> {
         let cross_fade_s = world.scene.run.cross_fade_s as f32;
-        let selector_fades = !matches!(policy, Policy::Full | Policy::ScreenSize);
+        let selector_fades = !(policy == Policy::Full || policy.is_screen_size());
+        let scheduled = policy.is_scheduled() && !policy.is_untuned();
         let settings = SelectorSettings {
             fade_time_s: if selector_fades { cross_fade_s } else { 0.0 },
             components: components(policy).unwrap_or(Components::ALL),
@@ -114,6 +138,21 @@ impl PolicyRunner {
                 BudgetRule::UniformScale
             } else {
                 BudgetRule::BestEffort
+            },
+            budget_hysteresis: if policy == Policy::AcuityPredictiveNoHeadroom {
+                0.0
+            } else {
+                SelectorSettings::default().budget_hysteresis
+            },
+            switch_hysteresis: if scheduled {
+                SCHEDULED_SWITCH_HYSTERESIS
+            } else {
+                0.0
+            },
+            switch_min_dwell_s: if scheduled {
+                SCHEDULED_MIN_DWELL_S
+            } else {
+                0.0
             },
             ..SelectorSettings::default()
         };
@@ -159,19 +198,24 @@ impl PolicyRunner {
             })
             .collect::<anyhow::Result<Vec<_>>>()?;
         let run = &world.scene.run;
-        let predictive = matches!(
-            policy,
-            Policy::AcuityPredictive | Policy::AcuityPredictiveUniform
-        );
-        if predictive || policy == Policy::AcuityReactive {
+        if policy.is_scheduled() {
             acuity::schedule::check_target_hz("run.target_hz", run.target_hz)?;
         }
-        let target_hz = run.target_hz as f32;
         let scale = (run.scale_factor as f32).clamp(MIN_SCALE, 1.0);
-        let reactive = match policy {
-            Policy::AcuityReactive => Some(ReactiveScheduler::new(ReactiveSettings::for_rate_hz(
-                target_hz,
-            )?)),
+        let tuned = || ReactiveSettings::for_rate_hz(run.target_hz as f32);
+        let scheduler = match policy {
+            Policy::AcuityReactive | Policy::ScreenSizeReactive => Some(Scheduler::Reactive(
+                ReactiveScheduler::new(tuned()?),
+                Some(cost),
+            )),
+            Policy::AcuityReactiveNoHeadroom => Some(Scheduler::Reactive(
+                ReactiveScheduler::new(tuned()?.without_headroom()),
+                None,
+            )),
+            Policy::AcuityPredictive | Policy::AcuityPredictiveUniform => Some(
+                Scheduler::Predictive(PredictiveScheduler::new(tuned()?, cost)),
+            ),
+            Policy::AcuityPredictiveNoHeadroom => Some(Scheduler::PredictiveNoHeadroom(cost)),
             _ => None,
         };
         Ok(PolicyRunner {
@@ -181,16 +225,14 @@ impl PolicyRunner {
             ids,
             screen,
             scale,
-            reactive,
-            cost: predictive.then_some(cost),
-            target_frame_s: 1.0 / target_hz,
+            scheduler,
             budget_share: policy.is_budgeted().then_some(1.0),
             full_detail_triangles: world
                 .instances
                 .iter()
                 .map(|i| u64::from(world.objects[i.object].profile.lod_triangles[0]))
                 .sum(),
-            screen_fades: (policy == Policy::ScreenSize && cross_fade_s > 0.0)
+            screen_fades: (policy.is_screen_size() && cross_fade_s > 0.0)
                 .then(|| CrossFades::new(cross_fade_s)),
             fades: Vec::new(),
         })
@@ -233,9 +275,9 @@ impl PolicyRunner {
         lods: &mut Vec<Option<usize>>,
     ) -> anyhow::Result<Choice> {
         // The scene's s caps what the reactive scheduler may use.
-        let scale = match &self.reactive {
-            Some(r) => r.scale().min(self.scale),
-            None => self.scale,
+        let scale = match &self.scheduler {
+            Some(Scheduler::Reactive(r, _)) => r.scale().min(self.scale),
+            _ => self.scale,
         };
         let frame = FrameInput {
             camera: World::camera(view),
@@ -247,10 +289,13 @@ impl PolicyRunner {
             scale,
             triangle_budget: None,
         };
-        let budget = match (&self.cost, self.budget_share) {
-            (Some(cost), _) => Some(cost.triangle_budget(self.target_frame_s)),
-            (None, Some(share)) => Some((share * self.full_detail_triangles as f64) as u64),
-            (None, None) => None,
+        let budget = match (&mut self.scheduler, self.budget_share) {
+            (Some(Scheduler::Predictive(p)), _) => Some(p.triangle_budget()),
+            (Some(Scheduler::PredictiveNoHeadroom(cost)), _) => {
+                Some(cost.triangle_budget(1.0 / world.scene.run.target_hz as f32))
+            }
+            (_, Some(share)) => Some((share * self.full_detail_triangles as f64) as u64),
+            _ => None,
         };
         match budget {
             Some(budget) => {
@@ -273,14 +318,21 @@ impl PolicyRunner {
         }
         lods.clear();
         let fov_v = world.scene.display.screen_height_fov_deg();
+        // Under the reactive scheduler, screen size's bias times its `s`.
+        let screen_scale = if self.policy == Policy::ScreenSizeReactive {
+            f64::from(choice.scale)
+        } else {
+            1.0
+        };
         for (inst, id) in world.instances.iter().zip(&self.ids) {
             let sel = self.selector.selection(*id);
             let lod = match self.policy {
                 _ if sel.is_culled() => None,
                 Policy::Full => Some(0),
-                Policy::ScreenSize => {
+                Policy::ScreenSize | Policy::ScreenSizeReactive => {
                     let to_object_m = inst.center_m - view.eye_m;
-                    let mut h = relative_height(inst.radius_m, to_object_m.length(), fov_v);
+                    let mut h =
+                        relative_height(inst.radius_m, to_object_m.length(), fov_v) * screen_scale;
                     if world.scene.run.screen_size_foveated {
                         let in_camera = view.orientation.inverse() * to_object_m;
                         let eccentricity_deg = in_camera.angle_between(view.gaze_camera);
@@ -325,11 +377,31 @@ impl PolicyRunner {
     /// Feeds back the measured frame (seconds, triangles drawn) to the
     /// scheduler, if the policy has one.
     pub fn observe(&mut self, frame_time_s: f64, triangles: u64) {
-        if let Some(r) = &mut self.reactive {
-            r.update(frame_time_s as f32);
+        let t = frame_time_s as f32;
+        match &mut self.scheduler {
+            Some(Scheduler::Reactive(r, cost)) => {
+                let floor = cost.as_mut().and_then(|c| {
+                    c.observe(t, triangles);
+                    c.floor_s(self.selector.coarsest_triangles())
+                });
+                r.update_with_floor(t, floor);
+            }
+            Some(Scheduler::Predictive(p)) => {
+                p.observe(t, triangles, self.selector.coarsest_triangles());
+            }
+            Some(Scheduler::PredictiveNoHeadroom(c)) => c.observe(t, triangles),
+            None => {}
         }
-        if let Some(c) = &mut self.cost {
-            c.observe(frame_time_s as f32, triangles);
+    }
+
+    /// Whether the scheduler found the last frame's cost floor above the
+    /// frame period (no LOD choice reaches the target); `None` for
+    /// policies without a scheduler, or blind to the floor.
+    pub fn target_unreachable(&self) -> Option<bool> {
+        match &self.scheduler {
+            Some(Scheduler::Reactive(r, Some(_))) => Some(r.target_unreachable()),
+            Some(Scheduler::Predictive(p)) => Some(p.target_unreachable()),
+            _ => None,
         }
     }
 }

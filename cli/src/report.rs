@@ -220,14 +220,14 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// The per-frame CSV: one row per policy and frame.
 pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{}",
                 f.policy.name(),
                 f.frame,
                 f.t_s,
@@ -243,6 +243,8 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
                 o(f.flip_mean.map(|v| format!("{v:.6}"))),
                 o(f.flip_p95.map(|v| format!("{v:.6}"))),
                 f.lod_reversals,
+                o(f.target_unreachable.map(|u| u32::from(u).to_string())),
+                u32::from(f.in_spike),
             );
         }
     }

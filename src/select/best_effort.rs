@@ -27,6 +27,10 @@
 //! order until the triangles fit. Three passes over the objects, no
 //! allocation.
 //!
+//! Hysteresis: a step the object had already taken in the previous frame
+//! costs [`SelectorSettings::budget_hysteresis`](super::SelectorSettings::budget_hysteresis)
+//! less, so that near ties keep last frame's order.
+//!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
 //! [`SelectorSettings::min_scale`](super::SelectorSettings::min_scale),
@@ -52,6 +56,18 @@ struct Step {
 const BINS: usize = 1024;
 const BINS_PER_OCTAVE: f32 = 20.0;
 const LOWEST_OCTAVE: f32 = -40.0;
+
+impl Step {
+    /// The step's cost, times `keep_factor` when it leads to a LOD no
+    /// finer than `kept_lod` (taken last frame).
+    fn cost_given(&self, kept_lod: usize, keep_factor: f32) -> f32 {
+        if usize::from(self.to_lod) <= kept_lod {
+            self.cost * keep_factor
+        } else {
+            self.cost
+        }
+    }
+}
 
 fn bin_of(cost: f32) -> usize {
     if cost.is_nan() || cost <= 0.0 {
@@ -83,6 +99,8 @@ impl Selector {
             }
         }
         let adjust_of = |slot: usize| adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
+        let h = self.settings.budget_hysteresis;
+        let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         // Pass 1: the LODs at `s_max`, and every later step's saving
         // binned by its cost.
         let mut saved_by_bin = [0u64; BINS];
@@ -98,9 +116,10 @@ impl Selector {
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
+            let kept = self.kept_lod(slot);
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
             while let Some(step) = next {
-                cost = cost.max(step.cost);
+                cost = cost.max(step.cost_given(kept, keep_factor));
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
             }
@@ -130,9 +149,10 @@ impl Selector {
                     let adjust = adjust_of(slot);
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
+                    let kept = self.kept_lod(slot);
                     let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
                     while let Some(step) = next {
-                        cost = cost.max(step.cost);
+                        cost = cost.max(step.cost_given(kept, keep_factor));
                         let bin = bin_of(cost);
                         let take = if below {
                             bin < threshold
@@ -152,6 +172,12 @@ impl Selector {
         }
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
+    }
+
+    /// The LOD the object in `slot` had last frame (0 when it was culled
+    /// or new): steps up to it were taken then.
+    fn kept_lod(&self, slot: usize) -> usize {
+        self.previous.get(slot).and_then(|s| s.lod()).unwrap_or(0)
     }
 
     /// Triangles an object of profile `p` draws at `lod`, after the LOD

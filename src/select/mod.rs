@@ -68,6 +68,7 @@ mod best_effort;
 mod changes;
 mod dispatch;
 mod frame;
+mod hysteresis;
 mod kernel;
 mod objects;
 mod rule;
@@ -198,6 +199,33 @@ pub struct SelectorSettings {
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
     pub budget_rule: BudgetRule,
+    /// Under [`BudgetRule::BestEffort`], the fraction by which a step an
+    /// object had already taken in the previous frame is cheaper than a new
+    /// one, in `[0, 0.9]` (values outside are clamped; NaN is 0): objects
+    /// whose steps cost about the same then keep their LODs instead of
+    /// trading places whenever the budget or the view moves a little
+    /// (hysteresis; 0.3 by default, about half an octave of cost).
+    pub budget_hysteresis: f32,
+    /// Hysteresis of [`Selector::select`]'s switches to coarser LODs, a
+    /// fraction in `[0, 1]` (larger values count as 1; NaN and values not
+    /// `> 0` are off, the default): an object drawn at a finer LOD last
+    /// frame coarsens only where its threshold lies this fraction below
+    /// the transition's critical frequency, so a view or `s` that wobbles
+    /// by less than that does not switch it back and forth. Switches to
+    /// finer LODs happen at once: the rule only keeps detail. Objects with
+    /// a bias ([`Selector::set_bias`]) switch without it. It costs the
+    /// loop a recorded threshold per object (as a budget does) and a pass
+    /// over the objects.
+    pub switch_hysteresis: f32,
+    /// Least time an object holds an LOD before [`Selector::select`]
+    /// switches it to a coarser one, s (the frames' `dt_s` summed); NaN
+    /// and values not `> 0` are off, the default. Under
+    /// [`Selector::select_within_budget`] a coarsening waits only while the
+    /// budget has room for the finer LOD it keeps. Switches to finer LODs
+    /// happen at once, so this only keeps detail: an object the view
+    /// sweeps back and forth over a transition does not flicker between
+    /// two LODs faster than this.
+    pub switch_min_dwell_s: f32,
     /// The widest vector instructions the loop may use, detected at run
     /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
     /// results are bit-identical at every level (nothing is fused or
@@ -315,6 +343,9 @@ impl Default for SelectorSettings {
             parallel_min_objects: 32_768,
             min_scale: 0.01,
             budget_rule: BudgetRule::default(),
+            budget_hysteresis: 0.3,
+            switch_hysteresis: 0.0,
+            switch_min_dwell_s: 0.0,
             simd: SimdLevel::Widest,
             observer: Observer::default(),
             eccentricity_model: EccentricityModel::default(),

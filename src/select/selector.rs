@@ -122,6 +122,10 @@ pub struct Selector {
     /// The best-effort budget's per-slot adjustment index, kept between
     /// frames.
     pub(super) adjusted_of: Vec<u32>,
+    /// The switch hysteresis' clock (the sum of the frames' `dt_s`), s,
+    /// and per slot when its selection last changed.
+    pub(super) clock_s: f64,
+    pub(super) switched_at_s: Vec<f64>,
 }
 
 impl Selector {
@@ -161,6 +165,8 @@ impl Selector {
             deferred: Vec::new(),
             deferred_before: Vec::new(),
             adjusted_of: Vec::new(),
+            clock_s: 0.0,
+            switched_at_s: Vec::new(),
         }
     }
 
@@ -288,6 +294,34 @@ impl Selector {
         multi + self.single_triangles()
     }
 
+    /// Triangles the visible objects would draw at their coarsest LODs
+    /// (within their LOD ranges), with the current culling: the part of a
+    /// frame no choice of LOD removes ([`crate::CostModel::floor_s`]).
+    pub fn coarsest_triangles(&self) -> u64 {
+        let coarsest = |p: usize| {
+            let t = &self.profiles[p].triangles;
+            (t.len() - 1, t)
+        };
+        let mut multi: u64 = self
+            .object_profiles()
+            .zip(&self.selections)
+            .filter(|(_, s)| !s.is_culled())
+            .map(|(p, _)| {
+                let (last, t) = coarsest(p);
+                u64::from(t[last])
+            })
+            .sum();
+        for a in &self.adjusted {
+            let slot = self.handles[a.handle as usize].slot as usize;
+            if slot < self.multi() && !self.selections[slot].is_culled() {
+                let (last, t) = coarsest(self.object_profiles[slot] as usize);
+                let clamped = t[a.clamp(last, t.len())];
+                multi = multi - u64::from(t[last]) + u64::from(clamped);
+            }
+        }
+        multi + self.single_triangles()
+    }
+
     pub(super) fn single_triangles(&self) -> u64 {
         self.singles
             .iter()
@@ -311,7 +345,12 @@ impl Selector {
     /// `(0, 1]`), leaving every state unchanged.
     pub fn select(&mut self, frame: &FrameInput) -> Result<()> {
         let biased = self.biased > 0;
-        self.run(frame, frame.scale, false, biased)?;
+        let hysteresis = self.hysteresis();
+        let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
+        self.run(frame, frame.scale, false, biased || thresholds)?;
+        if let Some(h) = hysteresis {
+            self.apply_hysteresis(h, frame.dt_s, None);
+        }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, false);
         }
@@ -323,7 +362,12 @@ impl Selector {
     /// [`Diagnostics`].
     pub fn select_with_diagnostics(&mut self, frame: &FrameInput) -> Result<()> {
         let biased = self.biased > 0;
-        self.run(frame, frame.scale, true, biased)?;
+        let hysteresis = self.hysteresis();
+        let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
+        self.run(frame, frame.scale, true, biased || thresholds)?;
+        if let Some(h) = hysteresis {
+            self.apply_hysteresis(h, frame.dt_s, None);
+        }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, true);
         }
@@ -368,8 +412,12 @@ impl Selector {
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
         }
-        // Switches waiting for a saccade hold finer LODs only within the
-        // budget's room.
+        // Coarsenings before the dwell time, and switches waiting for a
+        // saccade, hold finer LODs only within the budget's room.
+        if let Some(h) = self.hysteresis().and_then(|h| h.dwell_only()) {
+            let room = triangle_budget.saturating_sub(triangles);
+            triangles += self.apply_hysteresis(h, frame.dt_s, Some(room));
+        }
         triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         Ok(BudgetOutcome {
             scale,

@@ -1,13 +1,25 @@
 //! `acuity experiment framerate`: a fixed-frame-rate loop under load
 //! spikes, frames over budget and `s` over time per scheduler.
+//!
+//! Besides the general table it prints one for the schedulers: frames over
+//! the period outside the spikes and within them, and within them the
+//! frames the scheduler reported out of reach (its cost floor above the
+//! period), LOD switches and reversals per second, mean triangles and,
+//! with `--metric fvvdp`, the sequence's foveated JOD. Screen size under
+//! the same reactive controller (`screen_size_reactive`) and the
+//! controllers before headroom (`*_no_headroom`) run beside acuity's.
 
+use std::fmt::Write;
 use std::path::PathBuf;
 
+use crate::dump::{Metric, check_fvvdp, score_fvvdp};
 use crate::exit::input_error;
 use crate::limits;
-use crate::player::{PlaySettings, Player};
+use crate::player::{PlaySettings, Player, PolicyRun};
 use crate::plot::{LinePlot, Series, save_line_plot};
-use crate::report::{Summary, format_table, frames_csv, summarize, write_csv_with_json};
+use crate::report::{
+    Summary, attach_jod, format_table, frames_csv, summarize, write_csv_with_json,
+};
 use crate::scene::Policy;
 
 use super::CommonArgs;
@@ -30,14 +42,54 @@ pub struct FramerateArgs {
     /// 0 to 10.
     #[arg(long, default_value_t = 0.5, value_parser = crate::limits::parse_spike_load)]
     pub spike_load: f64,
+    /// The screen-size table's bias for `screen_size_reactive` at `s = 1`
+    /// (the controller multiplies it by its `s`), finite and > 0; 32 draws
+    /// about as many triangles as `acuity_all` at `s = 1` on
+    /// `scenes/vr_sweep.toml`.
+    #[arg(long, default_value_t = 32.0)]
+    pub screen_size_bias: f64,
+    /// Error metrics, comma-separated: none by default; `fvvdp` scores
+    /// every sequence with FovVideoVDP against full detail (needs Python
+    /// with pyfvvdp; dumps the frames, to `<out>/frames/` without
+    /// --dump-frames). `flip` is not offered here.
+    #[arg(long, value_delimiter = ',')]
+    pub metric: Vec<Metric>,
     /// Options every experiment shares.
     #[command(flatten)]
     pub common: CommonArgs,
 }
 
+/// The policies the experiment plays, in report order.
+pub const FRAMERATE_POLICIES: [Policy; 8] = [
+    Policy::Full,
+    Policy::AcuityAll,
+    Policy::AcuityReactive,
+    Policy::AcuityPredictive,
+    Policy::AcuityPredictiveUniform,
+    Policy::ScreenSizeReactive,
+    Policy::AcuityReactiveNoHeadroom,
+    Policy::AcuityPredictiveNoHeadroom,
+];
+
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
-/// `framerate_time.png` and `framerate_scale.png`; returns the summaries.
+/// `framerate_summary.csv` (the schedulers' table), `framerate_time.png`
+/// and `framerate_scale.png`; returns the summaries.
 pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
+    if args.metric.contains(&Metric::Flip) {
+        return Err(input_error(
+            "--metric: experiment framerate scores with fvvdp only",
+        ));
+    }
+    if !(args.screen_size_bias.is_finite() && args.screen_size_bias > 0.0) {
+        return Err(input_error(format!(
+            "--screen-size-bias: {} must be finite and > 0",
+            args.screen_size_bias
+        )));
+    }
+    let fvvdp = args.metric.contains(&Metric::Fvvdp);
+    if fvvdp {
+        check_fvvdp()?;
+    }
     limits::check_spike_load(args.spike_load)
         .map_err(|e| input_error(format!("--spike-load: {e}")))?;
     if let Some(hz) = args.target_hz {
@@ -50,7 +102,12 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     let mut settings = PlaySettings::from_scene(&world.scene, args.frames)?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;
-    settings.dump_dir = args.common.dump_frames.clone();
+    let out = args.common.out_dir("framerate")?;
+    settings.dump_dir = args
+        .common
+        .dump_frames
+        .clone()
+        .or_else(|| fvvdp.then(|| out.join("frames")));
     // Two spikes, at 25-37.5% and 62.5-75% of the path.
     let d = f64::from(settings.frames) * settings.dt_s;
     let extra_ms = args.spike_load * world.scene.run.budget_s() * 1e3;
@@ -58,25 +115,33 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         (0.25 * d, 0.375 * d, extra_ms),
         (0.625 * d, 0.75 * d, extra_ms),
     ];
-    let policies = [
-        Policy::Full,
-        Policy::AcuityAll,
-        Policy::AcuityReactive,
-        Policy::AcuityPredictive,
-        Policy::AcuityPredictiveUniform,
-    ];
+    let policies = FRAMERATE_POLICIES;
     let bar = crate::progress::bar(
         u64::from(settings.frames) * policies.len() as u64,
         "frames",
         args.common.profiles.quiet,
     );
+    let dump_dir = settings.dump_dir.clone();
     let mut player = Player::new(&world, settings)?;
     player.set_progress(&bar);
-    let runs = player.play_all(&policies, 1.0);
+    // The calibration frames at bias 1 (screen size far coarser than full
+    // detail) span the triangle counts the schedulers reach.
+    let s = world.scene.run.scale_factor;
+    let configs: Vec<(Policy, f64)> = policies
+        .iter()
+        .map(|&p| match p {
+            Policy::Full => (p, 1.0),
+            _ if p.is_screen_size() => (p, args.screen_size_bias),
+            _ => (p, s),
+        })
+        .collect();
+    let runs = player.play_configs(&configs, 1.0);
     bar.finish_and_clear();
     let runs = runs?;
-    let sums = summarize(&runs, world.scene.run.budget_s());
-    let out = args.common.out_dir("framerate")?;
+    let mut sums = summarize(&runs, world.scene.run.budget_s());
+    if let (true, Some(dir)) = (fvvdp, &dump_dir) {
+        attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
+    }
     println!(
         "target {:.1} Hz ({:.2} ms), spikes of +{extra_ms:.2} ms at {:.2}-{:.2} s and {:.2}-{:.2} s",
         world.scene.run.target_hz,
@@ -87,7 +152,11 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         0.75 * d
     );
     print!("{}", format_table(&sums));
+    let held = held_rates(&runs, &sums, world.scene.run.budget_s());
+    println!();
+    print!("{}", held_table(&held));
     write_csv_with_json(&frames_csv(&runs), &out.join("framerate.csv"))?;
+    write_csv_with_json(&held_csv(&held), &out.join("framerate_summary.csv"))?;
     let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
@@ -126,9 +195,147 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     )?;
     if !args.common.profiles.quiet {
         eprintln!(
-            "wrote {} (framerate.csv, framerate.json, framerate_time and framerate_scale .png/.svg)",
+            "wrote {} (framerate.csv/.json, framerate_summary.csv/.json, framerate_time and framerate_scale .png/.svg)",
             out.display()
         );
     }
     Ok(sums)
+}
+
+/// How a policy held the frame rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldRate {
+    /// The policy.
+    pub policy: Policy,
+    /// Share of the frames outside the load spikes over the period.
+    pub over_outside_spikes: f64,
+    /// Share of the frames within the spikes over the period.
+    pub over_in_spikes: f64,
+    /// Share of the frames within the spikes the scheduler reported out of
+    /// reach (cost floor above the period); `None` without a scheduler
+    /// that sees the floor.
+    pub unreachable_in_spikes: Option<f64>,
+    /// Share of the frames within the spikes over the period although the
+    /// scheduler found the target reachable; `None` as above.
+    pub over_reachable_in_spikes: Option<f64>,
+    /// Share of the frames outside the spikes reported out of reach.
+    pub unreachable_outside_spikes: Option<f64>,
+    /// LOD switches and reversals per second, mean triangles, mean `s`.
+    pub switches_per_s: f64,
+    /// LOD reversals per second.
+    pub reversals_per_s: f64,
+    /// Mean triangles per frame.
+    pub triangles: f64,
+    /// Mean scale factor.
+    pub mean_scale: f64,
+    /// FovVideoVDP JOD of the sequence, when scored.
+    pub jod: Option<f64>,
+}
+
+fn share(
+    frames: &[&crate::player::FrameRecord],
+    f: impl Fn(&crate::player::FrameRecord) -> bool,
+) -> f64 {
+    if frames.is_empty() {
+        f64::NAN
+    } else {
+        frames.iter().filter(|x| f(x)).count() as f64 / frames.len() as f64
+    }
+}
+
+/// Each run's [`HeldRate`] against a frame period of `budget_s`.
+pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<HeldRate> {
+    runs.iter()
+        .zip(sums)
+        .map(|(r, s)| {
+            let over = |f: &crate::player::FrameRecord| f.frame_ms * 1e-3 > budget_s;
+            let (inside, outside): (Vec<_>, Vec<_>) = r.frames.iter().partition(|f| f.in_spike);
+            let sees_floor = r.frames.iter().any(|f| f.target_unreachable.is_some());
+            let unreachable = |f: &crate::player::FrameRecord| f.target_unreachable == Some(true);
+            HeldRate {
+                policy: r.policy,
+                over_outside_spikes: share(&outside, over),
+                over_in_spikes: share(&inside, over),
+                unreachable_in_spikes: sees_floor.then(|| share(&inside, unreachable)),
+                over_reachable_in_spikes: sees_floor
+                    .then(|| share(&inside, |f| over(f) && !unreachable(f))),
+                unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
+                switches_per_s: s.switches_per_s,
+                reversals_per_s: s.reversals_per_s,
+                triangles: s.triangles,
+                mean_scale: s.mean_scale,
+                jod: s.jod,
+            }
+        })
+        .collect()
+}
+
+fn pct(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{:.1}", 100.0 * v))
+}
+
+/// The schedulers' table: over% outside and within the spikes, within them
+/// out of reach and over while reachable, switches, reversals, triangles,
+/// `s` and JOD.
+pub fn held_table(rows: &[HeldRate]) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<30} {:>8} {:>8} {:>8} {:>9} {:>7} {:>6} {:>6} {:>10} {:>5} {:>6}",
+        "policy",
+        "over% out",
+        "over% in",
+        "unreach%",
+        "over%reach",
+        "unr%out",
+        "sw/s",
+        "rev/s",
+        "tris/frm",
+        "s",
+        "JOD"
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "{:<30} {:>8} {:>8} {:>8} {:>9} {:>7} {:>6.1} {:>6.1} {:>10.0} {:>5.2} {:>6}",
+            r.policy.name(),
+            pct(Some(r.over_outside_spikes)),
+            pct(Some(r.over_in_spikes)),
+            pct(r.unreachable_in_spikes),
+            pct(r.over_reachable_in_spikes),
+            pct(r.unreachable_outside_spikes),
+            r.switches_per_s,
+            r.reversals_per_s,
+            r.triangles,
+            r.mean_scale,
+            r.jod.map_or("-".into(), |j| format!("{j:.3}")),
+        );
+    }
+    t
+}
+
+/// The schedulers' table as CSV (shares as fractions).
+pub fn held_csv(rows: &[HeldRate]) -> String {
+    let mut t = String::from(
+        "policy,over_outside_spikes,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod\n",
+    );
+    let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "{},{:.4},{:.4},{},{},{},{:.3},{:.3},{:.1},{:.4},{}",
+            r.policy.name(),
+            r.over_outside_spikes,
+            r.over_in_spikes,
+            o(r.unreachable_in_spikes),
+            o(r.over_reachable_in_spikes),
+            o(r.unreachable_outside_spikes),
+            r.switches_per_s,
+            r.reversals_per_s,
+            r.triangles,
+            r.mean_scale,
+            o(r.jod),
+        );
+    }
+    t
 }

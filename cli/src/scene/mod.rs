@@ -427,6 +427,17 @@ pub enum Policy {
     /// As [`Policy::AcuityPredictive`], with one `s` lowered for every
     /// object until the predicted frame fits (the rule before best effort).
     AcuityPredictiveUniform,
+    /// The screen-size table with its bias times the `s` of the reactive
+    /// scheduler: the frame-rate controller a user would write without
+    /// acuity, to compare with [`Policy::AcuityReactive`].
+    ScreenSizeReactive,
+    /// [`Policy::AcuityReactive`] as it was before headroom: aiming at the
+    /// frame period itself, acting on every frame, blind to the cost floor.
+    AcuityReactiveNoHeadroom,
+    /// [`Policy::AcuityPredictive`] as it was before headroom: the budget
+    /// of the whole period recomputed every frame, no hysteresis, blind to
+    /// the cost floor.
+    AcuityPredictiveNoHeadroom,
 }
 
 impl Policy {
@@ -449,11 +460,41 @@ impl Policy {
     pub const BUDGETED: [Policy; 2] = [Policy::AcuityBestEffort, Policy::AcuityBudgetUniform];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 3] = [
+    pub const EXTRA: [Policy; 6] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBudgetUniform,
         Policy::AcuityPredictiveUniform,
+        Policy::ScreenSizeReactive,
+        Policy::AcuityReactiveNoHeadroom,
+        Policy::AcuityPredictiveNoHeadroom,
     ];
+
+    /// Whether a fixed-frame-rate scheduler sets this policy's knob.
+    pub fn is_scheduled(self) -> bool {
+        matches!(
+            self,
+            Policy::AcuityReactive
+                | Policy::AcuityPredictive
+                | Policy::AcuityPredictiveUniform
+                | Policy::ScreenSizeReactive
+                | Policy::AcuityReactiveNoHeadroom
+                | Policy::AcuityPredictiveNoHeadroom
+        )
+    }
+
+    /// Whether this is one of the controllers as they were before headroom
+    /// (kept to measure against).
+    pub fn is_untuned(self) -> bool {
+        matches!(
+            self,
+            Policy::AcuityReactiveNoHeadroom | Policy::AcuityPredictiveNoHeadroom
+        )
+    }
+
+    /// Whether this policy draws the screen-size table's LODs.
+    pub fn is_screen_size(self) -> bool {
+        matches!(self, Policy::ScreenSize | Policy::ScreenSizeReactive)
+    }
 
     /// Whether this policy selects under a share of full detail's
     /// triangles ([`Policy::BUDGETED`]).
@@ -489,6 +530,9 @@ impl Policy {
             Policy::AcuityBestEffort => "acuity_best_effort",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
             Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
+            Policy::ScreenSizeReactive => "screen_size_reactive",
+            Policy::AcuityReactiveNoHeadroom => "acuity_reactive_no_headroom",
+            Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
         }
     }
 }

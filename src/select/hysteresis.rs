@@ -1,0 +1,133 @@
+//! Hysteresis on switches to coarser LODs, for [`Selector::select`] (and
+//! the dwell rule, within the budget's room, for
+//! [`Selector::select_within_budget`]):
+//! - by threshold
+//!   ([`SelectorSettings::switch_hysteresis`](super::SelectorSettings::switch_hysteresis)):
+//!   an object that drew a finer LOD last frame coarsens only as far as its
+//!   threshold, raised by the hysteresis, still allows;
+//! - by time
+//!   ([`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s)):
+//!   an object coarsens only once it has held its LOD that long.
+//!
+//! Switches to finer LODs happen at once, so both rules only ever keep
+//! more detail than the plain rule: an object near a transition's critical
+//! frequency switches once as the view or `s` crosses it, not back and
+//! forth with every small wobble.
+//!
+//! The threshold rule reads the thresholds the loop records for budgets;
+//! both look at every object once, and change only those whose selection
+//! became coarser.
+
+use super::Selection;
+use super::Selector;
+use super::rule::count_coarser;
+
+/// What the hysteresis of a frame applies.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Hysteresis {
+    /// `1 + switch_hysteresis` (1: off).
+    factor: f32,
+    /// `switch_min_dwell_s` (0: off).
+    dwell_s: f32,
+}
+
+impl Hysteresis {
+    /// Whether the loop must record thresholds for it.
+    pub(super) fn needs_thresholds(self) -> bool {
+        self.factor > 1.0
+    }
+
+    /// The dwell rule alone (under a budget, whose own order has its
+    /// hysteresis), or `None` when it is off.
+    pub(super) fn dwell_only(self) -> Option<Self> {
+        (self.dwell_s > 0.0).then_some(Self {
+            factor: 1.0,
+            ..self
+        })
+    }
+}
+
+impl Selector {
+    /// The frame's hysteresis, or `None` when both rules are off.
+    pub(super) fn hysteresis(&self) -> Option<Hysteresis> {
+        let h = self.settings.switch_hysteresis;
+        let dwell_s = self.settings.switch_min_dwell_s;
+        let factor = if h.is_finite() && h > 0.0 {
+            1.0 + h.min(1.0)
+        } else {
+            1.0
+        };
+        let dwell_s = if dwell_s.is_finite() && dwell_s > 0.0 {
+            dwell_s
+        } else {
+            0.0
+        };
+        (factor > 1.0 || dwell_s > 0.0).then_some(Hysteresis { factor, dwell_s })
+    }
+
+    /// Holds back switches to coarser LODs (the module docs), from this
+    /// frame's recorded thresholds and last frame's selections; `dt_s`
+    /// advances the clock of the dwell rule (not finite or negative: 0).
+    /// With `room`, a switch is held back only while the triangles it
+    /// keeps fit in what is left of it (in slot order). Returns the
+    /// triangles held back.
+    pub(super) fn apply_hysteresis(
+        &mut self,
+        hysteresis: Hysteresis,
+        dt_s: f32,
+        room: Option<u64>,
+    ) -> u64 {
+        let mut room = room.unwrap_or(u64::MAX);
+        let mut kept = 0u64;
+        if dt_s.is_finite() && dt_s > 0.0 {
+            self.clock_s += f64::from(dt_s);
+        }
+        let multi = self.multi().min(self.previous.len());
+        if hysteresis.dwell_s > 0.0 {
+            self.switched_at_s.resize(multi, f64::NEG_INFINITY);
+        }
+        let thresholds = hysteresis.needs_thresholds() && self.budget.len() >= multi;
+        for slot in 0..multi {
+            let (now, before) = (self.selections[slot], self.previous[slot]);
+            if now == before {
+                continue;
+            }
+            // Into or out of view is no switch between LODs.
+            if now.is_culled() || before.is_culled() {
+                continue;
+            }
+            let mut chosen = now;
+            if now.0 > before.0 {
+                let mut held = usize::from(now.0);
+                let entry = self.budget.get(slot).copied().unwrap_or_default();
+                if thresholds && entry.row != u32::MAX {
+                    let n = self.profiles[self.object_profiles[slot] as usize].lod_count - 1;
+                    let row = &self.rows[entry.row as usize..][..n];
+                    held = held.min(count_coarser(row, hysteresis.factor * entry.k_cdiam));
+                }
+                let dwelt = self
+                    .switched_at_s
+                    .get(slot)
+                    .is_none_or(|&at| self.clock_s - at >= f64::from(hysteresis.dwell_s));
+                if !dwelt {
+                    held = usize::from(before.0);
+                }
+                let held = held.max(usize::from(before.0));
+                let t = &self.profiles[self.object_profiles[slot] as usize].triangles;
+                let extra = u64::from(t[held].saturating_sub(t[usize::from(now.0)]));
+                if extra <= room {
+                    room -= extra;
+                    kept += extra;
+                    chosen = Selection(held as u8);
+                    self.selections[slot] = chosen;
+                }
+            }
+            if chosen != before
+                && let Some(at) = self.switched_at_s.get_mut(slot)
+            {
+                *at = self.clock_s;
+            }
+        }
+        kept
+    }
+}
