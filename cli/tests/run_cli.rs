@@ -210,7 +210,7 @@ fn unknown_policy_and_zero_frames_are_refused() {
 #[test]
 fn out_of_range_arguments_exit_2_naming_the_limit() {
     // Clap's errors come whole (error, usage); the commands' in one line.
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 10] = [
         (&["acuity", "--velocity", "nan"], "--velocity"),
         (&["acuity", "--velocity=-1"], "--velocity"),
         (&["acuity", "--eccentricity=-10"], "--eccentricity"),
@@ -248,6 +248,28 @@ fn out_of_range_arguments_exit_2_naming_the_limit() {
                 "1e-40",
             ],
             "10000",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--screen-size-bias",
+                "0",
+            ],
+            "--screen-size-bias",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--metric",
+                "flip",
+            ],
+            "--metric",
         ),
     ];
     for (args, says) in cases {
@@ -512,6 +534,28 @@ fn experiments_run_small_and_write_their_files() {
         );
         let text = std::fs::read_to_string(dir.join(folder).join(csv)).unwrap();
         assert!(text.lines().count() > 1, "{folder}: {text}");
+    }
+    // The frame-rate experiment's schedulers' table: one row per policy,
+    // screen size under the same controller and the controllers before
+    // headroom among them.
+    let held =
+        std::fs::read_to_string(dir.join("framerate").join("framerate_summary.csv")).unwrap();
+    let mut rows = held.lines();
+    assert!(
+        rows.next()
+            .unwrap()
+            .starts_with("policy,over_outside_spikes,over_in_spikes,unreachable_in_spikes"),
+        "{held}"
+    );
+    let names: Vec<&str> = rows.map(|r| r.split(',').next().unwrap()).collect();
+    for p in [
+        "acuity_reactive",
+        "acuity_predictive",
+        "screen_size_reactive",
+        "acuity_reactive_no_headroom",
+        "acuity_predictive_no_headroom",
+    ] {
+        assert!(names.contains(&p), "{p} missing: {held}");
     }
     // Speedup dumps per N and trial.
     for n in ["n0003_trial0", "n0006_trial0"] {
