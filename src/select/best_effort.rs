@@ -29,7 +29,11 @@
 //!
 //! Hysteresis: a step the object had already taken in the previous frame
 //! costs [`SelectorSettings::budget_hysteresis`](super::SelectorSettings::budget_hysteresis)
-//! less, so that near ties keep last frame's order.
+//! less, so that near ties keep last frame's order; with
+//! [`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s),
+//! a step beyond last frame's LOD of an object that switched less than that
+//! ago costs [`DWELL_PENALTY`] times more, so it is taken only where the
+//! budget needs it.
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
@@ -57,14 +61,19 @@ const BINS: usize = 1024;
 const BINS_PER_OCTAVE: f32 = 20.0;
 const LOWEST_OCTAVE: f32 = -40.0;
 
+/// The factor by which a step that would switch an object before its
+/// dwell time is dearer: ten octaves of cost.
+pub const DWELL_PENALTY: f32 = 1024.0;
+
 impl Step {
-    /// The step's cost, times `keep_factor` when it leads to a LOD no
-    /// finer than `kept_lod` (taken last frame).
-    fn cost_given(&self, kept_lod: usize, keep_factor: f32) -> f32 {
+    /// The step's cost: times `keep_factor` when it leads to a LOD no
+    /// finer than `kept_lod` (taken last frame), times `beyond_factor`
+    /// otherwise.
+    fn cost_given(&self, kept_lod: usize, keep_factor: f32, beyond_factor: f32) -> f32 {
         if usize::from(self.to_lod) <= kept_lod {
             self.cost * keep_factor
         } else {
-            self.cost
+            self.cost * beyond_factor
         }
     }
 }
@@ -101,6 +110,7 @@ impl Selector {
         let adjust_of = |slot: usize| adjusted_of.get(slot).copied().unwrap_or(u32::MAX);
         let h = self.settings.budget_hysteresis;
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
+        let dwell_s = self.dwell_s();
         // Pass 1: the LODs at `s_max`, and every later step's saving
         // binned by its cost.
         let mut saved_by_bin = [0u64; BINS];
@@ -116,10 +126,10 @@ impl Selector {
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
-            let kept = self.kept_lod(slot);
+            let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
             while let Some(step) = next {
-                cost = cost.max(step.cost_given(kept, keep_factor));
+                cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
             }
@@ -149,10 +159,10 @@ impl Selector {
                     let adjust = adjust_of(slot);
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
-                    let kept = self.kept_lod(slot);
+                    let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
                     let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
                     while let Some(step) = next {
-                        cost = cost.max(step.cost_given(kept, keep_factor));
+                        cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
                         let take = if below {
                             bin < threshold
@@ -172,6 +182,17 @@ impl Selector {
         }
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
+    }
+
+    /// The cost factor of the steps beyond the LOD the object in `slot` had
+    /// last frame: [`DWELL_PENALTY`] when it switched less than `dwell_s`
+    /// ago, else 1.
+    fn beyond_factor(&self, slot: usize, dwell_s: f32) -> f32 {
+        if self.switched_within(slot, dwell_s) {
+            DWELL_PENALTY
+        } else {
+            1.0
+        }
     }
 
     /// The LOD the object in `slot` had last frame (0 when it was culled

@@ -65,23 +65,37 @@ impl Selector {
         (factor > 1.0 || dwell_s > 0.0).then_some(Hysteresis { factor, dwell_s })
     }
 
-    /// Holds back switches to coarser LODs (the module docs), from this
-    /// frame's recorded thresholds and last frame's selections; `dt_s`
-    /// advances the clock of the dwell rule (not finite or negative: 0).
-    /// With `room`, a switch is held back only while the triangles it
-    /// keeps fit in what is left of it (in slot order). Returns the
-    /// triangles held back.
-    pub(super) fn apply_hysteresis(
-        &mut self,
-        hysteresis: Hysteresis,
-        dt_s: f32,
-        room: Option<u64>,
-    ) -> u64 {
-        let mut room = room.unwrap_or(u64::MAX);
-        let mut kept = 0u64;
+    /// Advances the dwell rule's clock by a frame's `dt_s` (not finite or
+    /// negative: 0); before the frame's selection.
+    pub(super) fn advance_clock(&mut self, dt_s: f32) {
         if dt_s.is_finite() && dt_s > 0.0 {
             self.clock_s += f64::from(dt_s);
         }
+    }
+
+    /// Whether the object in `slot` switched LOD less than `dwell_s` ago
+    /// (by the clock as advanced for this frame).
+    pub(super) fn switched_within(&self, slot: usize, dwell_s: f32) -> bool {
+        dwell_s > 0.0
+            && self
+                .switched_at_s
+                .get(slot)
+                .is_some_and(|&at| self.clock_s - at < f64::from(dwell_s))
+    }
+
+    /// The dwell time of the frame's hysteresis (0: off).
+    pub(super) fn dwell_s(&self) -> f32 {
+        self.hysteresis().map_or(0.0, |h| h.dwell_s)
+    }
+
+    /// Holds back switches to coarser LODs (the module docs), from this
+    /// frame's recorded thresholds and last frame's selections.
+    /// With `room`, a switch is held back only while the triangles it
+    /// keeps fit in what is left of it (in slot order). Returns the
+    /// triangles held back.
+    pub(super) fn apply_hysteresis(&mut self, hysteresis: Hysteresis, room: Option<u64>) -> u64 {
+        let mut room = room.unwrap_or(u64::MAX);
+        let mut kept = 0u64;
         let multi = self.multi().min(self.previous.len());
         if hysteresis.dwell_s > 0.0 {
             self.switched_at_s.resize(multi, f64::NEG_INFINITY);
@@ -105,11 +119,7 @@ impl Selector {
                     let row = &self.rows[entry.row as usize..][..n];
                     held = held.min(count_coarser(row, hysteresis.factor * entry.k_cdiam));
                 }
-                let dwelt = self
-                    .switched_at_s
-                    .get(slot)
-                    .is_none_or(|&at| self.clock_s - at >= f64::from(hysteresis.dwell_s));
-                if !dwelt {
+                if self.switched_within(slot, hysteresis.dwell_s) {
                     held = usize::from(before.0);
                 }
                 let held = held.max(usize::from(before.0));

@@ -220,8 +220,10 @@ pub struct SelectorSettings {
     /// Least time an object holds an LOD before [`Selector::select`]
     /// switches it to a coarser one, s (the frames' `dt_s` summed); NaN
     /// and values not `> 0` are off, the default. Under
-    /// [`Selector::select_within_budget`] a coarsening waits only while the
-    /// budget has room for the finer LOD it keeps. Switches to finer LODs
+    /// [`Selector::select_within_budget`], best effort takes a step that
+    /// would switch an object before then only where the budget needs it
+    /// (it prices it 1024 times dearer), and a coarsening waits only while
+    /// the budget has room for the finer LOD it keeps. Switches to finer LODs
     /// happen at once, so this only keeps detail: an object the view
     /// sweeps back and forth over a transition does not flicker between
     /// two LODs faster than this.

@@ -349,7 +349,8 @@ impl Selector {
         let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
         self.run(frame, frame.scale, false, biased || thresholds)?;
         if let Some(h) = hysteresis {
-            self.apply_hysteresis(h, frame.dt_s, None);
+            self.advance_clock(frame.dt_s);
+            self.apply_hysteresis(h, None);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, false);
@@ -366,7 +367,8 @@ impl Selector {
         let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
         self.run(frame, frame.scale, true, biased || thresholds)?;
         if let Some(h) = hysteresis {
-            self.apply_hysteresis(h, frame.dt_s, None);
+            self.advance_clock(frame.dt_s);
+            self.apply_hysteresis(h, None);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, true);
@@ -401,6 +403,10 @@ impl Selector {
         let s_max = checked_scale(frame.scale)?;
         self.run(frame, 1.0, false, true)?;
         self.bias_budget_entries();
+        let dwell = self.hysteresis().and_then(|h| h.dwell_only());
+        if dwell.is_some() {
+            self.advance_clock(frame.dt_s);
+        }
         let (scale, mut triangles) = match self.settings.budget_rule {
             BudgetRule::BestEffort => self.best_effort_within(s_max, triangle_budget),
             BudgetRule::UniformScale => {
@@ -414,9 +420,9 @@ impl Selector {
         }
         // Coarsenings before the dwell time, and switches waiting for a
         // saccade, hold finer LODs only within the budget's room.
-        if let Some(h) = self.hysteresis().and_then(|h| h.dwell_only()) {
+        if let Some(h) = dwell {
             let room = triangle_budget.saturating_sub(triangles);
-            triangles += self.apply_hysteresis(h, frame.dt_s, Some(room));
+            triangles += self.apply_hysteresis(h, Some(room));
         }
         triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         Ok(BudgetOutcome {
