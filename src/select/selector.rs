@@ -344,34 +344,27 @@ impl Selector {
     /// an invalid frame (non-finite camera or gaze, `scale` not in
     /// `(0, 1]`), leaving every state unchanged.
     pub fn select(&mut self, frame: &FrameInput) -> Result<()> {
-        let biased = self.biased > 0;
-        let hysteresis = self.hysteresis();
-        let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
-        self.run(frame, frame.scale, false, biased || thresholds)?;
-        if let Some(h) = hysteresis {
-            self.advance_clock(frame.dt_s);
-            self.apply_hysteresis(h, None);
-        }
-        if !self.adjusted.is_empty() {
-            self.apply_adjustments(biased, false);
-        }
-        self.finish_frame(frame, None);
-        Ok(())
+        self.select_recording(frame, false)
     }
 
     /// As [`select`](Self::select), and records each object's
     /// [`Diagnostics`].
     pub fn select_with_diagnostics(&mut self, frame: &FrameInput) -> Result<()> {
+        self.select_recording(frame, true)
+    }
+
+    /// [`select`](Self::select), recording the diagnostics when asked.
+    fn select_recording(&mut self, frame: &FrameInput, diagnostics: bool) -> Result<()> {
         let biased = self.biased > 0;
         let hysteresis = self.hysteresis();
         let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
-        self.run(frame, frame.scale, true, biased || thresholds)?;
+        self.run(frame, frame.scale, diagnostics, biased || thresholds)?;
         if let Some(h) = hysteresis {
             self.advance_clock(frame.dt_s);
             self.apply_hysteresis(h, None);
         }
         if !self.adjusted.is_empty() {
-            self.apply_adjustments(biased, true);
+            self.apply_adjustments(biased, diagnostics);
         }
         self.finish_frame(frame, None);
         Ok(())
