@@ -7,41 +7,21 @@
 //! An error is input's fault when any error along its cause chain is of an
 //! input kind ([`is_input_error`]): the typed errors of the scene, profile
 //! and mesh parsers and of the checks of images and threshold tables, and
-//! [`InputError`], which the commands raise for
-//! values clap cannot check by itself ([`input_error`]). Everything else
-//! is a run-time failure.
+//! the lab's [`InputError`], which the commands raise for values clap
+//! cannot check by itself. Everything else is a run-time failure.
 
 use std::process::ExitCode;
 
-use crate::foveate::FoveateError;
-use crate::preprocess::PreprocessError;
-use crate::scene::SceneError;
-use crate::screen_size::ScreenSizeError;
+use acuity_lab::error::{InputError, error_line};
+use acuity_lab::preprocess::PreprocessError;
+use acuity_lab::reddy2001::foveate::FoveateError;
+use acuity_lab::scene::SceneError;
+use acuity_lab::screen_size::ScreenSizeError;
 
 /// Exit code for bad arguments or bad input.
 pub const INPUT: u8 = 2;
 /// Exit code for a failure while running.
 pub const RUNTIME: u8 = 1;
-
-/// A value the user gave that the command cannot use (exit code 2).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
-
-/// An [`InputError`] as an [`anyhow::Error`]:
-/// `return Err(input_error(format!(...)))`.
-pub fn input_error(message: impl Into<String>) -> anyhow::Error {
-    InputError(message.into()).into()
-}
-
-/// `anyhow::bail!` for input errors: returns an [`InputError`] with the
-/// formatted message from the enclosing function.
-#[macro_export]
-macro_rules! bail_input {
-    ($($arg:tt)*) => {
-        return Err($crate::exit::input_error(format!($($arg)*)))
-    };
-}
 
 /// Whether any error along `e`'s cause chain blames the input.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
@@ -82,12 +62,12 @@ pub fn exit_code(e: &anyhow::Error) -> ExitCode {
 }
 
 /// Ends a command: prints its error (if any) once, on one line
-/// ([`crate::error_line`]), and gives the exit code.
+/// ([`error_line`]), and gives the exit code.
 pub fn report<T>(result: anyhow::Result<T>) -> ExitCode {
     match result {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", crate::error_line(&e));
+            eprintln!("error: {}", error_line(&e));
             exit_code(&e)
         }
     }
@@ -96,6 +76,7 @@ pub fn report<T>(result: anyhow::Result<T>) -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use acuity_lab::error::input_error;
     use anyhow::Context;
 
     #[test]

@@ -4,8 +4,10 @@ use std::process::ExitCode;
 
 use acuity::acuity::threshold_cpd;
 use acuity::{Display, EccentricityModel, VelocityModel};
-use acuity_cli::thresholds::ThresholdReport;
+use acuity_lab::thresholds::ThresholdReport;
 use clap::{Args, CommandFactory, Parser, Subcommand};
+
+mod exit;
 
 #[derive(Parser)]
 #[command(
@@ -26,21 +28,21 @@ enum Command {
     /// Analyse a scene's objects (or one OBJ) into profiles: render every
     /// LOD from viewpoints on the view sphere, measure the frequencies each
     /// LOD transition removes. Unchanged inputs are not analysed again.
-    Preprocess(acuity_cli::preprocess::PreprocessArgs),
+    Preprocess(acuity_lab::preprocess::PreprocessArgs),
     /// Fly a scene's camera path under each LOD policy: frame time,
     /// triangles, FLIP against full detail; a table, CSV, plots, images.
-    Run(acuity_cli::run::RunArgs),
+    Run(acuity_lab::run::RunArgs),
     /// The reference experiments of Reddy 1998 §5.
-    Experiment(acuity_cli::experiment::ExperimentArgs),
+    Experiment(acuity_lab::experiment::ExperimentArgs),
     /// A line plot (PNG and SVG) of two columns of a CSV, one line per
     /// group of rows.
-    Plot(acuity_cli::plot_csv::PlotArgs),
+    Plot(acuity_lab::plot_csv::PlotArgs),
     /// Remove from an image the detail the acuity model predicts a viewer
     /// cannot see at a gaze point and velocity (Reddy 2001, Fig. 5).
-    Blur(acuity_cli::blur::BlurArgs),
+    Blur(acuity_lab::reddy2001::blur::BlurArgs),
     /// View-dependent terrain under each combination of perceptual
     /// criteria over a recorded flight (Reddy 2001, Table 1).
-    Terrain(acuity_cli::terrain::TerrainArgs),
+    Terrain(acuity_lab::reddy2001::terrain::TerrainArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -102,7 +104,7 @@ fn parse_non_negative(text: &str) -> Result<f32, String> {
 }
 
 fn parse_pair<T: std::str::FromStr>(text: &str) -> Result<(T, T), String> {
-    let [a, b] = acuity_cli::parse::parse_pair(text, "AxB", |s| {
+    let [a, b] = acuity_lab::parse::parse_pair(text, "AxB", |s| {
         s.parse::<T>()
             .map_err(|_| format!("`{s}` in `{text}` is not a number"))
     })?;
@@ -168,18 +170,16 @@ fn main() -> ExitCode {
             // Clap's whole message: the error, its suggestions, the usage.
             suggest_subcommand(&mut e);
             let _ = e.print();
-            return ExitCode::from(acuity_cli::exit::INPUT);
+            return ExitCode::from(exit::INPUT);
         }
     };
     let result: anyhow::Result<()> = match cli.command {
-        Command::Run(args) => return acuity_cli::run::command(&args),
-        Command::Experiment(args) => return acuity_cli::experiment::command(&args),
-        Command::Plot(args) => return acuity_cli::plot_csv::command(&args),
-        Command::Blur(args) => return acuity_cli::blur::command(&args),
-        Command::Terrain(args) => return acuity_cli::terrain::command(&args),
-        Command::Preprocess(args) => {
-            return acuity_cli::preprocess::finish(acuity_cli::preprocess::run(&args));
-        }
+        Command::Run(args) => acuity_lab::run::run(&args).map(|run| print!("{}", run.table())),
+        Command::Experiment(args) => experiment(&args),
+        Command::Plot(args) => acuity_lab::plot_csv::plot(&args),
+        Command::Blur(args) => acuity_lab::reddy2001::blur::run(&args),
+        Command::Terrain(args) => acuity_lab::reddy2001::terrain::run(&args),
+        Command::Preprocess(args) => acuity_lab::preprocess::run(&args),
         Command::Thresholds(display) => display
             .display()
             .map(|d| print!("{}", ThresholdReport::new(d)))
@@ -210,12 +210,38 @@ fn main() -> ExitCode {
             })
             .map_err(Into::into),
     };
-    acuity_cli::exit::report(result)
+    exit::report(result)
+}
+
+/// `acuity experiment`: runs the chosen experiment, which writes its
+/// files, and prints its table.
+fn experiment(args: &acuity_lab::experiment::ExperimentArgs) -> anyhow::Result<()> {
+    use acuity_lab::experiment::{Experiment, error, framerate, speedup};
+    match &args.which {
+        Experiment::Speedup(a) => speedup(a).map(|o| print!("{}", o.table)),
+        Experiment::Error(a) => error(a).map(|sweep| print!("{}", sweep.table())),
+        Experiment::Framerate(a) => framerate(a).map(|o| print!("{}", o.table)),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_error_sweeps_defaults_are_the_labs() {
+        let cli = Cli::try_parse_from(["acuity", "experiment", "error"]).unwrap();
+        let Command::Experiment(args) = cli.command else {
+            panic!("not an experiment");
+        };
+        let acuity_lab::experiment::Experiment::Error(parsed) = args.which else {
+            panic!("not the error experiment");
+        };
+        assert_eq!(
+            format!("{parsed:?}"),
+            format!("{:?}", acuity_lab::experiment::ErrorArgs::default())
+        );
+    }
 
     #[test]
     fn one_letter_off_is_distance_one() {

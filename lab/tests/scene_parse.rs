@@ -9,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
-use acuity_cli::scene::{MeshSource, Policy, Scene, SceneError};
+use acuity_lab::scene::{MeshSource, Policy, Scene, SceneError};
 use proptest::prelude::*;
 
 /// The smallest valid scene: one procedural object on a straight path.
@@ -31,7 +31,7 @@ forward_speed_m_per_s = 1.0
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
-        .expect("the CLI crate sits in the repository")
+        .expect("the lab crate sits in the repository")
         .to_path_buf()
 }
 
@@ -124,7 +124,7 @@ fn vr_sweep_reaches_200_deg_per_s() {
 
 #[test]
 fn profiles_table_is_read_and_flags_override_it() {
-    use acuity_cli::scene::ProfileSpec;
+    use acuity_lab::scene::ProfileSpec;
     use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
     let text = &format!(
         "{MINIMAL_SCENE}{}",
@@ -169,7 +169,7 @@ fn screen_size_table_and_foveation_are_read_from_the_run_table() {
     let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         plain.run.screen_size_thresholds,
-        acuity_cli::screen_size::DEFAULT_THRESHOLDS_4.to_vec()
+        acuity_lab::screen_size::DEFAULT_THRESHOLDS_4.to_vec()
     );
     assert!(!plain.run.screen_size_foveated);
     let text = format!(
@@ -488,7 +488,7 @@ point_deg = [1, 2]
 
 #[test]
 fn the_viewers_object_is_read_without_an_eye_tracker_only() {
-    use acuity_cli::gaze::GazeMode;
+    use acuity_lab::gaze::GazeMode;
     let plain = Scene::parse(MINIMAL_SCENE, "plain.toml").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(plain.gaze.viewer, None);
     let text = format!("{MINIMAL_SCENE}\n[gaze]\ntracker = \"head\"\nviewer_object = \"ball\"\n");

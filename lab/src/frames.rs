@@ -80,39 +80,40 @@ pub struct LoadOptions {
 /// The profile options `acuity run` and the experiments share: where
 /// profiles are cached and how those that must be made are analysed, plus
 /// whether to print progress.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone, Default)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct ProfileArgs {
     /// Profile cache folder (default `<scene dir>/.acuity-cache/`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub cache_dir: Option<PathBuf>,
     /// Image size of profiles that must be made, pixels (16..=8192)
     /// [default: the scene's `[profiles]`, else 512].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64)))]
     pub profile_resolution: Option<u32>,
     /// Smallest rung of the size ladder of profiles that must be made,
     /// pixels [default: the scene's `[profiles]`, else 16].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64)))]
     pub profile_min_diameter: Option<u32>,
     /// MSAA samples of the analysis and of the rendered frames (1: none)
     /// [default: the scene's `[profiles]`, else 4].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(1..=16)))]
     pub msaa: Option<u32>,
     /// View-sphere level of profiles that must be made (0: 6 viewpoints,
     /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64)))]
     pub profile_viewpoints: Option<u32>,
     /// Feature-size statistic of profiles that must be made: `thickness`
     /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or
     /// `shortest` [default: the scene's `[profiles]`, else thickness].
-    #[arg(long, value_parser = crate::parse::parse_statistic)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_statistic))]
     pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that
     /// must be made [default: the scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = crate::parse::parse_threshold)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub profile_threshold: Option<f32>,
     /// Print no progress bar or progress lines on stderr (warnings and
     /// errors still print).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub quiet: bool,
 }
 
@@ -186,7 +187,7 @@ fn check_full_detail(scene: &Scene, lod0_triangles: &[u32]) -> anyhow::Result<()
         .zip(lod0_triangles)
         .map(|(o, &t)| (o.name.as_str(), u64::from(t), o.placement.count() as u64));
     check_scene_triangles(counts).map_err(|(_, reason)| {
-        crate::exit::input_error(format!("{}: {reason}", scene.source_path.display()))
+        crate::error::input_error(format!("{}: {reason}", scene.source_path.display()))
     })
 }
 
@@ -254,8 +255,8 @@ impl World {
             .iter()
             .map(|o| object_source(&o.name, &o.source))
             .collect::<Vec<_>>();
-        check_distinct_cache_paths(&cache_dir, &sources).map_err(crate::exit::input_error)?;
-        crate::limits::check_generated_meshes(&sources).map_err(crate::exit::input_error)?;
+        check_distinct_cache_paths(&cache_dir, &sources).map_err(crate::error::input_error)?;
+        crate::limits::check_generated_meshes(&sources).map_err(crate::error::input_error)?;
         let started = Instant::now();
         // Every object's LODs first, so the scene's size at full detail is
         // checked before anything is analysed.

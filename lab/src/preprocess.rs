@@ -36,7 +36,6 @@
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -52,7 +51,8 @@ use acuity::rows::{FieldCsfs, transition_critical_cdiam};
 use acuity::{Observer, Photometry, Profile, csf::Csf};
 
 /// Arguments of `acuity preprocess`.
-#[derive(Debug, Clone, clap::Args)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct PreprocessArgs {
     /// A scene file (.toml: every object in it), one mesh (.obj, .gltf,
     /// .glb: its LODs are generated with --triangles, or a glTF's own chain
@@ -62,80 +62,84 @@ pub struct PreprocessArgs {
     /// LOD triangle targets for a single mesh file, finest first, strictly
     /// decreasing [default: 3928,834,254,76; a glTF with its own chain:
     /// that chain].
-    #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_delimiter = ',', value_name = "N,N,...")
+    )]
     pub triangles: Option<Vec<u32>>,
     /// Worker threads for the analysis (rayon pool size) [default: one per
     /// CPU core].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(1..=1024)))]
     pub jobs: Option<u32>,
     /// Square rendering size in pixels (16..=8192) [default: a scene's
     /// `[profiles]`, else 512].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_RESOLUTION_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64)))]
     pub resolution: Option<u32>,
     /// Smallest rung of the size ladder, pixels: rungs halve from
     /// `--resolution` down to it [default: the scene's `[profiles]`, else
     /// 16].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(AnalysisSettings::MIN_DIAMETER_PX as i64..=AnalysisSettings::MAX_RESOLUTION_PX as i64)))]
     pub min_diameter: Option<u32>,
     /// MSAA samples (1: none) [default: the scene's `[profiles]`, else 4].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(1..=16)))]
     pub msaa: Option<u32>,
     /// View-sphere subdivision level: 0 -> 6 viewpoints, 1 -> 18, 2 -> 66,
     /// 3 -> 258, ... (0..=6) [default: a scene's `[profiles]`, else 1].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64)))]
     pub viewpoints: Option<u32>,
     /// Just-noticeable colour difference, ΔE*uv (> 0), for region growing
     /// [default: a scene's `[profiles]`, else 2.3].
-    #[arg(long, value_parser = crate::parse::parse_threshold)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub threshold: Option<f32>,
     /// Feature-size statistic: `thickness` (diameter of the largest
     /// inscribed disc: a thin sliver is as fine as its width, however
     /// long), `longest`, `shortest` or `mean` [default: a scene's
     /// `[profiles]`, else thickness].
-    #[arg(long, value_parser = crate::parse::parse_statistic)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_statistic))]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:
     /// .acuity-cache in the folder of PATH].
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: Option<PathBuf>,
     /// Write every rendered view and every transition's unique features as
     /// PNGs under this folder (analyses cached objects again).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub inspect: Option<PathBuf>,
     /// Also write each profile as JSON (NAME.json beside NAME.acp).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub json: bool,
     /// Analyse every object even when its cached profile is up to date.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub force: bool,
     /// Also write each object's analysed LOD chain beside its profile:
     /// NAME.lods.glb (every LOD) and NAME_lod<k>.obj (+ NAME.mtl, and
     /// NAME_basecolor.png when textured); the profile records each file's
     /// hash.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub export_lods: bool,
     /// Process only shard K of N (1 <= K <= N): a deterministic subset of
     /// the objects by the hash of their names, for batch systems that run
     /// the shards of a library (see `crate::library`).
-    #[arg(long, value_name = "K/N", value_parser = crate::library::parse_shard)]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "K/N", value_parser = crate::library::parse_shard))]
     pub shard: Option<crate::library::Shard>,
     /// Render nothing: check that every object (of the shard, if given) has
     /// an up-to-date profile in the profile folder; exit 1 naming those
     /// that have none or a stale one (the merge step of sharded runs).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub check: bool,
     /// Also write the summary table as CSV to this file.
-    #[arg(long, value_name = "FILE")]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "FILE"))]
     pub csv: Option<PathBuf>,
 }
 
-/// Why `acuity preprocess` failed, for its exit code (see [`finish`]).
+/// Why `acuity preprocess` failed: unusable arguments (the input's fault)
+/// or objects that failed while running.
 #[derive(Debug, thiserror::Error)]
 pub enum PreprocessError {
-    /// The arguments are unusable (exit code 2).
+    /// The arguments are unusable (the input's fault).
     #[error("{0}")]
     Usage(String),
-    /// Some objects failed; each was reported as it failed (exit code 1).
+    /// Some objects failed; each was reported as it failed.
     #[error("{failed} of {total} objects failed")]
     ObjectsFailed {
         /// Objects that failed.
@@ -143,14 +147,6 @@ pub enum PreprocessError {
         /// Objects in the input.
         total: usize,
     },
-}
-
-/// Prints `result`'s error (if any) on stderr and gives the exit code: 0 on
-/// success, 2 for [`PreprocessError::Usage`] (and other input errors,
-/// [`crate::exit`]), 1 otherwise ([`PreprocessError::ObjectsFailed`]
-/// included, whatever made the objects fail).
-pub fn finish(result: anyhow::Result<()>) -> ExitCode {
-    crate::exit::report(result)
 }
 
 /// One object to preprocess.
@@ -371,7 +367,7 @@ fn process(
                 rows.push(None);
                 to_analyse.push(i);
             }
-            Err(e) => rows.push(row(Outcome::Failed(crate::error_line(&e)))),
+            Err(e) => rows.push(row(Outcome::Failed(crate::error::error_line(&e)))),
         }
     }
 
@@ -436,7 +432,7 @@ fn process(
                     });
                     Outcome::Analysed(p)
                 }
-                Err(e) => Outcome::Failed(crate::error_line(&e)),
+                Err(e) => Outcome::Failed(crate::error::error_line(&e)),
             },
         };
         let seconds = t0.elapsed().as_secs_f64();
@@ -467,7 +463,7 @@ fn process(
             match profiles::export_lods(&j.source, p, out_dir) {
                 Ok(files) => println!("{}: exported {} LOD files", j.name, files.len()),
                 Err(e) => {
-                    let line = crate::error_line(&e);
+                    let line = crate::error::error_line(&e);
                     eprintln!("error: object `{}`: {line}", j.name);
                     row.outcome = Outcome::Failed(line);
                 }
@@ -482,7 +478,7 @@ fn process(
             let src = &j.source;
             let path = profiles::cache_path(out_dir, src).with_extension("json");
             if let Err(e) = write_json_if_changed(p, &path) {
-                let line = crate::error_line(&e);
+                let line = crate::error::error_line(&e);
                 eprintln!("error: object `{}`: {line}", j.name);
                 row.outcome = Outcome::Failed(line);
             }

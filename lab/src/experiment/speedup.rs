@@ -16,7 +16,6 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::frames::{ProfileArgs, World};
-use crate::parse::parse_resolution;
 use crate::placement::PlacementSpec;
 use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
@@ -27,27 +26,28 @@ use crate::scene::{Policy, Scene};
 pub const PAPER_COUNTS: [u32; 7] = [10, 20, 50, 100, 200, 500, 1000];
 
 /// Arguments of `acuity experiment speedup`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct SpeedupArgs {
     /// Scene with one object placed by `copies` (its count and seed are
     /// replaced per N and trial).
-    #[arg(long, default_value = "scenes/reddy1998.toml")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "scenes/reddy1998.toml"))]
     pub scene: PathBuf,
     /// Object counts, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = PAPER_COUNTS.to_vec())]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ',', default_values_t = PAPER_COUNTS.to_vec()))]
     pub counts: Vec<u32>,
     /// Trials per count (seeds `seed + trial`), at least 1.
-    #[arg(long, default_value_t = 3)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 3))]
     pub trials: u32,
     /// Frames per flight, spread over the scene's path.
-    #[arg(long, default_value_t = 25, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 25, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64)))]
     pub frames: u32,
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept);
     /// the paper's 1280x1024 is slow on a software rasteriser.
-    #[arg(long, value_parser = parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_resolution))]
     pub resolution: Option<[u32; 2]>,
     /// Output folder (default `out/experiment-speedup/`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: Option<PathBuf>,
     /// Write every played frame, per N and trial, to
     /// `DIR/nNNNN_trialT/<policy>_<knob>/NNNN.png` (e.g.
@@ -57,10 +57,10 @@ pub struct SpeedupArgs {
     /// top-left, y down: the gaze, or `[gaze] viewer_object`'s centre),
     /// each trial folder with display.json (resolution, fov_deg,
     /// fps, photometry, sequences).
-    #[arg(long, value_name = "DIR")]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "DIR"))]
     pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.
-    #[command(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub profiles: ProfileArgs,
 }
 
@@ -110,9 +110,18 @@ pub fn size_share(lod_all: f64, lod_ecc_vel: f64) -> f64 {
     }
 }
 
+/// What [`speedup`] measured.
+#[derive(Debug, Clone)]
+pub struct SpeedupOutcome {
+    /// Every trial: one count, one seed.
+    pub trials: Vec<SpeedupTrial>,
+    /// The table `acuity experiment speedup` prints: means per count.
+    pub table: String,
+}
+
 /// Runs the speedup experiment and writes `speedup.csv`, `speedup.png` and
 /// `average_lod.png`; returns the trials.
-pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
+pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
     if args.trials == 0 || args.frames == 0 || args.counts.is_empty() {
         crate::bail_input!("--trials, --frames and --counts need at least 1");
     }
@@ -241,7 +250,9 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         per_count(&|t| t.lod_all),
         per_count(&|t| t.lod_ecc_vel),
     );
-    println!(
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
         "{:>6} {:>14} {:>14} {:>9} {:>9} {:>10}",
         "N", "speedup time", "speedup tris", "LOD all", "LOD e+v", "size share"
     );
@@ -258,7 +269,8 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
         } else {
             format!("{:.0}%", 100.0 * share)
         };
-        println!(
+        let _ = writeln!(
+            table,
             "{:>6} {:>13.2}x {:>13.2}x {:>9.2} {:>9.2} {:>10}",
             args.counts[i], a, b, c, d, share
         );
@@ -311,7 +323,7 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<Vec<SpeedupTrial>> {
             out.display()
         );
     }
-    Ok(trials)
+    Ok(SpeedupOutcome { trials, table })
 }
 
 #[cfg(test)]

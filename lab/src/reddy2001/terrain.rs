@@ -1,19 +1,18 @@
 //! `acuity terrain`: Reddy 2001's Table 1 on acuity's view-dependent
 //! terrain ([`acuity::terrain`]): the recorded flight over the procedural
-//! valley ([`crate::flight`]) refined under six combinations of criteria,
+//! valley ([`crate::reddy2001::flight`]) refined under six combinations of criteria,
 //! with the average triangles and refinement time per frame beside the
 //! paper's numbers, as a printed table, CSV and bar plots.
 //!
 //! Measured: the refinement (the quadtree walk and the crack-free
 //! triangulation, on one core) every frame; with `--render-every N`, also
 //! every N-th frame drawn with the project's renderer
-//! ([`crate::terrain_render`]): the GPU-synchronised draw time, and FLIP
+//! ([`crate::reddy2001::terrain_render`]): the GPU-synchronised draw time, and FLIP
 //! against the full-resolution row's image of the same frame. The
 //! paper's frame times (SGI O2, 1999) are given for reference only.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
@@ -21,26 +20,27 @@ use acuity::{Components, EccentricityModel, VelocityModel};
 use anyhow::Context;
 
 use crate::barplot::{BarPlot, save_bar_plot};
-use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
-use crate::heightfield_file::HeightfieldFormat;
-use crate::terrain_render::TerrainRenderer;
+use crate::reddy2001::flight::{Flight, Pose, ValleySettings, poses_csv};
+use crate::reddy2001::heightfield_file::HeightfieldFormat;
+use crate::reddy2001::terrain_render::TerrainRenderer;
 
 /// Arguments of `acuity terrain`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct TerrainArgs {
     /// Output folder.
-    #[arg(long, default_value = "out/terrain")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "out/terrain"))]
     pub out: PathBuf,
     /// Field of view, HORIZxVERT deg (Reddy: 200x135), as azimuth and
     /// elevation about the view direction.
-    #[arg(long, default_value = "200x135", value_parser = crate::parse::parse_angles)]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "200x135", value_parser = crate::parse::parse_angles))]
     pub fov: [f32; 2],
     /// Display resolution, WIDTHxHEIGHT px: with the field of view it sets
     /// the display limit xi = max(w / (2 h_fov), h / (2 v_fov)).
-    #[arg(long, default_value = "1280x1024", value_parser = crate::parse::parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "1280x1024", value_parser = crate::parse::parse_resolution))]
     pub resolution: [u32; 2],
     /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
-    #[arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution))]
     pub size: [u32; 2],
     /// A heightfield file instead of the procedural valley, the first row
     /// north, one sample per pixel or value: a PNG (grey, 8 or 16 bits;
@@ -49,50 +49,50 @@ pub struct TerrainArgs {
     /// little-endian f32 heights in metres, row-major, with its size in
     /// --grid. The flight takes the same line as over the valley (up the
     /// middle).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub heightfield: Option<PathBuf>,
     /// Size of a raw f32 --heightfield, COLUMNSxROWS (each 2 to 65537;
     /// the file must hold COLUMNS x ROWS x 4 bytes).
-    #[arg(long, value_parser = crate::heightfield_file::parse_grid)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::reddy2001::heightfield_file::parse_grid))]
     pub grid: Option<[u32; 2]>,
     /// Metres between the samples of --heightfield.
-    #[arg(long, default_value_t = 30.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 30.0))]
     pub spacing_m: f32,
     /// Height of white in --heightfield, m.
-    #[arg(long, default_value_t = 2000.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 2000.0))]
     pub height_range_m: f32,
     /// Seed of the procedural terrain.
-    #[arg(long, default_value_t = 2001)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 2001))]
     pub seed: u64,
     /// Frames per second of the flight (the path is the same at any rate).
-    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240)))]
     pub fps: u32,
     /// Duration of the flight, s (0.1 to 600).
-    #[arg(long, default_value_t = 20.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 20.0))]
     pub duration: f32,
     /// Window over which retinal velocity is measured, s: the angle a
     /// node's direction turned since the camera that long ago (averaging
     /// over several frames, as Reddy smoothed it).
-    #[arg(long, default_value_t = 0.1)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 0.1))]
     pub velocity_window: f32,
     /// Global scale factor s in (0, 1].
-    #[arg(long, default_value_t = 1.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 1.0))]
     pub scale: f32,
     /// Draw every N-th frame of each row with the renderer at the display
     /// resolution (0: draw nothing; drawing needs a GPU or a software
     /// adapter such as llvmpipe).
-    #[arg(long, default_value_t = 30)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 30))]
     pub render_every: u32,
     /// How acuity falls with eccentricity (the paper's `reddy2001` by
     /// default here, or `cortical_magnification`).
-    #[arg(long, default_value = "reddy2001")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "reddy2001"))]
     pub eccentricity_model: EccentricityModel,
     /// How acuity falls with velocity (`reddy2001` by default here, or
     /// `kelly1979`).
-    #[arg(long, default_value = "reddy2001")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "reddy2001"))]
     pub velocity_model: VelocityModel,
     /// Print no progress bar on stderr (the table and warnings still print).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub quiet: bool,
 }
 
@@ -167,13 +167,10 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
-/// Runs `acuity terrain`; prints the error on one line on failure, exit
-/// code as [`crate::exit`] says.
-pub fn command(args: &TerrainArgs) -> ExitCode {
-    crate::exit::report(run(args))
-}
-
-fn run(args: &TerrainArgs) -> anyhow::Result<()> {
+/// Runs `acuity terrain`: flies the recorded flight under each
+/// combination of perceptual criteria, prints the table and writes the
+/// outputs.
+pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     if !(0.1..=600.0).contains(&args.duration) {
         crate::bail_input!("--duration {} s is outside [0.1, 600]", args.duration);
     }
@@ -191,7 +188,7 @@ fn run(args: &TerrainArgs) -> anyhow::Result<()> {
                 height_range_m: args.height_range_m,
                 grid: args.grid,
             };
-            let field = crate::heightfield_file::load(path, &format)?;
+            let field = crate::reddy2001::heightfield_file::load(path, &format)?;
             let valley = ValleySettings {
                 size: field.size(),
                 spacing_m: args.spacing_m,
@@ -504,13 +501,16 @@ mod tests {
             ..args.clone()
         };
         let e = run(&bad).unwrap_err();
-        assert!(crate::error_line(&e).contains("fov_deg"), "{e:#}");
+        assert!(crate::error::error_line(&e).contains("fov_deg"), "{e:#}");
         let stray_grid = TerrainArgs {
             grid: Some([65, 129]),
             ..args.clone()
         };
         let e = run(&stray_grid).unwrap_err();
-        assert!(crate::error_line(&e).contains("none is given"), "{e:#}");
+        assert!(
+            crate::error::error_line(&e).contains("none is given"),
+            "{e:#}"
+        );
         // The same flight over a raw f32 grid of the same size.
         let raw = dir.join("valley.f32");
         let bytes: Vec<u8> = (0..65 * 129)

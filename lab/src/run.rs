@@ -9,14 +9,12 @@
 //! [`crate::player`] and summarised and written by [`crate::report`].
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::Context;
 
 use crate::dump::Metric;
 use crate::frames::{ProfileArgs, World};
-use crate::parse::parse_resolution;
 use crate::player::{PlaySettings, Player, PolicyRun};
 use crate::report::{
     Summary, attach_jod, format_table, summarize, write_frames_csv, write_plots,
@@ -25,28 +23,32 @@ use crate::report::{
 use crate::scene::{Scene, policy_by_name};
 
 /// Arguments of `acuity run`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct RunArgs {
     /// The scene file (TOML).
     pub scene: PathBuf,
     /// Output folder (default `out/<scene file name>/`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: Option<PathBuf>,
     /// Number of frames, spread over the same path, 1 to 10,000,000
     /// (default: the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64)))]
     pub frames: Option<u32>,
     /// Policies to run, comma-separated (default: the scene's).
-    #[arg(long, value_delimiter = ',')]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub policies: Option<Vec<String>>,
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
-    #[arg(long, value_parser = parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_resolution))]
     pub resolution: Option<[u32; 2]>,
     /// Error metrics, comma-separated: `flip` (FLIP on sampled frames) and
     /// `fvvdp` (FovVideoVDP on every frame, foveated at the gaze: needs
     /// Python with pyfvvdp, `$ACUITY_PYTHON` or `python3`; dumps the frames,
     /// to `<out>/frames/` without --dump-frames).
-    #[arg(long, value_delimiter = ',', default_value = "flip")]
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_delimiter = ',', default_value = "flip")
+    )]
     pub metric: Vec<Metric>,
     /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
     /// rendered; knob as in the experiments' CSV, full detail is `full_1`,
@@ -54,14 +56,14 @@ pub struct RunArgs {
     /// (frame,x_px,y_px: the viewer's fixation in pixels, origin top-left, y
     /// down: the gaze, or `[gaze] viewer_object`'s centre), and
     /// DIR/display.json (resolution, fov_deg, fps, photometry, sequences).
-    #[arg(long, value_name = "DIR")]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "DIR"))]
     pub dump_frames: Option<PathBuf>,
     /// Cross-fade between LODs over this many seconds, drawn dithered
     /// (default: the scene's `run.cross_fade_s`; 0 = switch at once).
-    #[arg(long, value_name = "SECONDS")]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "SECONDS"))]
     pub cross_fade_s: Option<f64>,
     /// Profiles and progress.
-    #[command(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub profiles: ProfileArgs,
 }
 
@@ -76,6 +78,13 @@ pub struct RunOutcome {
     pub out_dir: PathBuf,
 }
 
+impl RunOutcome {
+    /// The table `acuity run` prints: one line per policy.
+    pub fn table(&self) -> String {
+        format_table(&self.summaries)
+    }
+}
+
 /// Loads `args.scene`, applies the overrides and loads its world.
 pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
     let mut scene = Scene::load(&args.scene)?;
@@ -84,7 +93,7 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
     }
     if let Some(s) = args.cross_fade_s {
         crate::scene::check_cross_fade_s(s)
-            .map_err(|e| crate::exit::input_error(format!("--cross-fade-s: {e}")))?;
+            .map_err(|e| crate::error::input_error(format!("--cross-fade-s: {e}")))?;
         scene.run.cross_fade_s = s;
     }
     if let Some(p) = &args.policies {
@@ -104,7 +113,7 @@ pub fn load_world(args: &RunArgs) -> anyhow::Result<World> {
 /// Runs `acuity run`: plays, prints the table and writes every output.
 pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
     if args.frames == Some(0) {
-        return Err(crate::exit::input_error("--frames must be at least 1"));
+        return Err(crate::error::input_error("--frames must be at least 1"));
     }
     let fvvdp = args.metric.contains(&Metric::Fvvdp);
     if fvvdp {
@@ -167,7 +176,6 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
             &crate::dump::score_fvvdp(dir, args.profiles.quiet)?,
         )?;
     }
-    print!("{}", format_table(&summaries));
     write_frames_csv(&runs, &out_dir.join("frames.csv"))?;
     write_summary_csv(&summaries, &out_dir.join("summary.csv"))?;
     write_plots(&runs, &name, &out_dir)?;
@@ -197,10 +205,4 @@ pub fn run(args: &RunArgs) -> anyhow::Result<RunOutcome> {
         summaries,
         out_dir,
     })
-}
-
-/// `acuity run` as a command: errors print as one line; exit code 2 for
-/// bad input, 1 for failures while running ([`crate::exit`]).
-pub fn command(args: &RunArgs) -> ExitCode {
-    crate::exit::report(run(args))
 }

@@ -8,43 +8,44 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
-use crate::exit::input_error;
+use crate::error::input_error;
 use crate::plot::{LinePlot, Series, save_line_plot};
 
 /// Arguments of `acuity plot`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct PlotArgs {
     /// The CSV file.
     pub csv: PathBuf,
     /// The column on the x axis.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub x: String,
     /// The column on the y axis.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub y: String,
     /// Columns whose values name a line (one line per distinct
     /// combination), comma-separated; none: one line.
-    #[arg(long, value_delimiter = ',')]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub group: Vec<String>,
     /// Keep only rows whose COLUMN has VALUE (repeatable; all must hold).
-    #[arg(long = "filter", value_name = "COLUMN=VALUE", value_parser = parse_filter)]
+    #[cfg_attr(feature = "clap", arg(long = "filter", value_name = "COLUMN=VALUE", value_parser = parse_filter))]
     pub filters: Vec<(String, String)>,
     /// Logarithmic x axis.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub log_x: bool,
     /// The plot's title (default: `Y against X`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub title: Option<String>,
     /// The PNG to write; the SVG goes beside it (extension `svg`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: PathBuf,
 }
 
-fn parse_filter(text: &str) -> Result<(String, String), String> {
+/// Parses a `--filter` value, `COLUMN=VALUE`: the column and the value.
+pub fn parse_filter(text: &str) -> Result<(String, String), String> {
     text.split_once('=')
         .map(|(c, v)| (c.trim().to_owned(), v.trim().to_owned()))
         .ok_or_else(|| format!("`{text}` is not COLUMN=VALUE"))
@@ -123,8 +124,13 @@ pub fn series_from_csv(text: &str, args: &PlotArgs) -> anyhow::Result<(Vec<Serie
 pub fn plot(args: &PlotArgs) -> anyhow::Result<()> {
     let text = std::fs::read_to_string(&args.csv)
         .map_err(|e| input_error(format!("reading {}: {e}", args.csv.display())))?;
-    let (series, skipped) = series_from_csv(&text, args)
-        .map_err(|e| input_error(format!("{}: {}", args.csv.display(), crate::error_line(&e))))?;
+    let (series, skipped) = series_from_csv(&text, args).map_err(|e| {
+        input_error(format!(
+            "{}: {}",
+            args.csv.display(),
+            crate::error::error_line(&e)
+        ))
+    })?;
     if series.iter().all(|s| s.points.is_empty()) {
         crate::bail_input!("{}: no row has numbers in both columns", args.csv.display());
     }
@@ -152,12 +158,6 @@ pub fn plot(args: &PlotArgs) -> anyhow::Result<()> {
         args.out.with_extension("svg").display()
     );
     Ok(())
-}
-
-/// `acuity plot` as a command: errors print as one line, exit code as
-/// [`crate::exit`] says.
-pub fn command(args: &PlotArgs) -> ExitCode {
-    crate::exit::report(plot(args))
 }
 
 #[cfg(test)]

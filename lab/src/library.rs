@@ -161,7 +161,7 @@ pub fn check_profiles(
             }
             Err(e) => {
                 bad += 1;
-                println!("{}: cannot check: {}", j.name, crate::error_line(&e));
+                println!("{}: cannot check: {}", j.name, crate::error::error_line(&e));
             }
         }
     }

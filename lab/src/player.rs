@@ -289,7 +289,7 @@ impl<'w> Player<'w> {
             ),
         )
         .map_err(|e| {
-            crate::exit::input_error(format!("{e}: use fewer frames, policies or pixels"))
+            crate::error::input_error(format!("{e}: use fewer frames, policies or pixels"))
         })?;
         let cost = self.calibrate(calibration_bias)?;
         let mut runners = configs

@@ -14,61 +14,84 @@ use crate::scene::Policy;
 use super::CommonArgs;
 
 /// Arguments of `acuity experiment error`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct ErrorArgs {
     /// The scene.
-    #[arg(long, default_value = "scenes/default.toml")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "scenes/default.toml"))]
     pub scene: PathBuf,
     /// Screen-size biases, comma-separated (> 0).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.25, 0.5, 1.0, 2.0, 4.0])]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ',', default_values_t = vec![0.25, 0.5, 1.0, 2.0, 4.0]))]
     pub biases: Vec<f64>,
     /// Acuity scale factors `s`, comma-separated, in (0, 1].
-    #[arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5, 0.25, 0.125, 0.0625])]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5, 0.25, 0.125, 0.0625]))]
     pub scales: Vec<f64>,
     /// Acuity policies swept across `s`, comma-separated: `acuity_size`
     /// isolates the size criterion, which FLIP (a foveal, gaze-free metric)
     /// judges fairly; eccentricity and velocity savings count as error in
     /// FLIP even where a viewer fixating the gaze cannot see them.
-    #[arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()])]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ',', default_values_t = vec!["acuity_size".to_string(), "acuity_all".to_string()]))]
     pub acuity_policies: Vec<String>,
     /// Triangle budgets as shares of full detail's triangles in view,
     /// comma-separated, in (0, 1]: each runs `acuity_best_effort` (the
     /// least visible detail per triangle first) and
     /// `acuity_budget_uniform` (one `s` lowered for all) under that budget
     /// (default: none).
-    #[arg(long, value_delimiter = ',')]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub budgets: Vec<f64>,
     /// Frames per configuration, spread over the scene's path.
-    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64)))]
     pub frames: u32,
     /// FLIP on every n-th frame (>= 1).
-    #[arg(long, default_value_t = 3)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 3))]
     pub flip_every: u32,
     /// Error metrics, comma-separated: `flip` (FLIP on every n-th frame)
     /// and `fvvdp` (FovVideoVDP on every frame, foveated at the gaze: needs
     /// Python with pyfvvdp, `$ACUITY_PYTHON` or `python3`; dumps the frames,
     /// to `<out>/frames/` without --dump-frames).
-    #[arg(long, value_delimiter = ',', default_value = "flip")]
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_delimiter = ',', default_value = "flip")
+    )]
     pub metric: Vec<Metric>,
     /// Screen size's thresholds, relative screen heights, comma-separated,
     /// strictly decreasing (default: the scene's `run.screen_size_thresholds`,
     /// else 0.6,0.3,0.1,0.03).
-    #[arg(long, value_delimiter = ',')]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub screen_size_thresholds: Option<Vec<f64>>,
     /// Weight screen size's relative heights by the observer's
     /// eccentricity factor at each object's angle from the gaze (a foveated
     /// screen-size baseline; default: the scene's `run.screen_size_foveated`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub screen_size_foveated: bool,
     /// Options every experiment shares.
-    #[command(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub common: CommonArgs,
+}
+
+impl Default for ErrorArgs {
+    /// The command line's defaults: `acuity experiment error` with no flags.
+    fn default() -> Self {
+        Self {
+            scene: PathBuf::from("scenes/default.toml"),
+            biases: vec![0.25, 0.5, 1.0, 2.0, 4.0],
+            scales: vec![1.0, 0.5, 0.25, 0.125, 0.0625],
+            acuity_policies: vec!["acuity_size".into(), "acuity_all".into()],
+            budgets: Vec::new(),
+            frames: 30,
+            flip_every: 3,
+            metric: vec![Metric::Flip],
+            screen_size_thresholds: None,
+            screen_size_foveated: false,
+            common: CommonArgs::default(),
+        }
+    }
 }
 
 /// Runs the error experiment; writes `error.csv`, with FLIP
 /// `error_time.png` and `error_triangles.png`, with FovVideoVDP
 /// `error_jod.png`; returns the summaries (full detail first).
-pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
+pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
     if args.frames == 0 || args.flip_every == 0 {
         crate::bail_input!("--frames and --flip-every need at least 1");
     }
@@ -101,7 +124,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     let mut world = args.common.load(&args.scene)?;
     if let Some(table) = &args.screen_size_thresholds {
         crate::screen_size::check_table(table)
-            .map_err(|e| crate::exit::input_error(format!("--screen-size-thresholds: {e}")))?;
+            .map_err(|e| crate::error::input_error(format!("--screen-size-thresholds: {e}")))?;
         world.scene.run.screen_size_thresholds = table.clone();
     }
     world.scene.run.screen_size_foveated |= args.screen_size_foveated;
@@ -136,96 +159,14 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
     if let (true, Some(dir)) = (fvvdp, &settings.dump_dir) {
         attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
     }
-    let screen_curve = |y: &dyn Fn(&Summary) -> f64| -> Vec<(f64, f64)> {
-        sums.iter()
-            .filter(|s| s.policy == Policy::ScreenSize)
-            .map(|s| (y(s), s.triangles))
-            .collect()
-    };
-    let (flip_curve, jod_curve) = (
-        screen_curve(&|s| s.flip_mean),
-        screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
-    );
-    let mut csv = String::from(
-        "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999\n",
-    );
-    let jod_head = if fvvdp {
-        format!(" {:>6} {:>10} {:>9}", "JOD", "vs scr JOD", "JOD p99.9")
-    } else {
-        String::new()
-    };
-    println!(
-        "{:<17} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
-        "policy",
-        "knob",
-        "mean ms",
-        "p95 ms",
-        "tris/frm",
-        "LOD",
-        "sw/s",
-        "rev/s",
-        "FLIP",
-        "FLIP p95",
-        "vs screen"
-    );
-    let text = |v: Option<f64>, f: &dyn Fn(f64) -> String, none: &str| v.map_or(none.into(), f);
-    for s in &sums {
-        let vs = |curve: &[(f64, f64)], v: f64, m: ErrorMeasure| match s.policy {
-            Policy::Full | Policy::ScreenSize => None,
-            _ => triangles_at_equal(curve, v, m).map(|t| s.triangles / t),
-        };
-        let ratio = vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip);
-        let ratio_jod = s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod));
-        let _ = writeln!(
-            csv,
-            "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{}",
-            s.policy.name(),
-            s.knob,
-            s.mean_ms,
-            s.p95_ms,
-            s.triangles,
-            s.mean_lod,
-            s.switches_per_s,
-            s.flip_mean,
-            s.flip_p95,
-            text(ratio, &|r| format!("{r:.4}"), ""),
-            text(s.jod, &|r| format!("{r:.4}"), ""),
-            text(ratio_jod, &|r| format!("{r:.4}"), ""),
-            s.reversals_per_s,
-            text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
-        );
-        let jod_cols = if fvvdp {
-            format!(
-                " {:>6} {:>10} {:>9}",
-                text(s.jod, &|j| format!("{j:.3}"), "-"),
-                text(ratio_jod, &|r| format!("{r:.2}x"), "-"),
-                text(s.jod_local_p999, &|r| format!("{r:.3}"), "-")
-            )
-        } else {
-            String::new()
-        };
-        // FLIP is not measured with `--metric fvvdp` alone: "-", not NaN.
-        let flip = |v: f64| text(v.is_finite().then_some(v), &|v| format!("{v:.4}"), "-");
-        println!(
-            "{:<17} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
-            s.policy.name(),
-            s.knob,
-            s.mean_ms,
-            s.p95_ms,
-            s.triangles,
-            s.mean_lod,
-            s.switches_per_s,
-            s.reversals_per_s,
-            flip(s.flip_mean),
-            flip(s.flip_p95),
-            text(ratio, &|r| format!("{r:.2}x"), "-")
-        );
-    }
+    let sweep = ErrorSweep::new(sums, fvvdp);
     let path = out.join("error.csv");
-    crate::report::write_csv_with_json(&csv, &path)?;
+    crate::report::write_csv_with_json(&sweep.csv(), &path)?;
+    let sums: Vec<&Summary> = sweep.rows.iter().map(|r| &r.summary).collect();
     let curve = |p: Policy, x: &dyn Fn(&Summary) -> f64, y: &dyn Fn(&Summary) -> f64| {
         let mut pts: Vec<(f64, f64)> = sums
             .iter()
+            .copied()
             .filter(|s| s.policy == p || s.policy == Policy::Full)
             .map(|s| (x(s), y(s)))
             .collect();
@@ -301,7 +242,156 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<Vec<Summary>> {
             plots.join(", ")
         );
     }
-    Ok(sums)
+    Ok(sweep)
+}
+
+/// One configuration of an error sweep: its summary and its triangles
+/// against screen size's at equal error.
+#[derive(Debug, Clone)]
+pub struct ErrorRow {
+    /// The played configuration (policy, knob, time, triangles, errors).
+    pub summary: Summary,
+    /// Its triangles over screen size's at the same mean FLIP, read off
+    /// screen size's curve across its bias (`None` for full detail, screen
+    /// size itself, or a FLIP outside screen size's range).
+    pub vs_screen_size_flip: Option<f64>,
+    /// The same at equal FovVideoVDP JOD (`None` also without JOD).
+    pub vs_screen_size_jod: Option<f64>,
+}
+
+/// What [`error`] measured: one row per configuration, in play order
+/// (full detail, screen size across its bias, each acuity policy across
+/// `s`, the budgeted policies across their budgets).
+#[derive(Debug, Clone)]
+pub struct ErrorSweep {
+    /// The rows.
+    pub rows: Vec<ErrorRow>,
+    /// Whether FovVideoVDP scored the sweep (the JOD columns).
+    pub fvvdp: bool,
+}
+
+impl ErrorSweep {
+    /// Rows from played summaries: each compared with the screen-size
+    /// configurations among them at equal FLIP and at equal JOD.
+    pub fn new(summaries: Vec<Summary>, fvvdp: bool) -> Self {
+        let screen_curve = |y: &dyn Fn(&Summary) -> f64| -> Vec<(f64, f64)> {
+            summaries
+                .iter()
+                .filter(|s| s.policy == Policy::ScreenSize)
+                .map(|s| (y(s), s.triangles))
+                .collect()
+        };
+        let (flip_curve, jod_curve) = (
+            screen_curve(&|s| s.flip_mean),
+            screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
+        );
+        let rows = summaries
+            .iter()
+            .map(|s| {
+                let vs = |curve: &[(f64, f64)], v: f64, m: ErrorMeasure| match s.policy {
+                    Policy::Full | Policy::ScreenSize => None,
+                    _ => triangles_at_equal(curve, v, m).map(|t| s.triangles / t),
+                };
+                ErrorRow {
+                    vs_screen_size_flip: vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip),
+                    vs_screen_size_jod: s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod)),
+                    summary: s.clone(),
+                }
+            })
+            .collect();
+        Self { rows, fvvdp }
+    }
+
+    /// The table `acuity experiment error` prints: a header and one line
+    /// per row; the JOD columns only when FovVideoVDP scored the sweep.
+    pub fn table(&self) -> String {
+        let mut out = String::new();
+        let jod_head = if self.fvvdp {
+            format!(" {:>6} {:>10} {:>9}", "JOD", "vs scr JOD", "JOD p99.9")
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "{:<17} {:>8} {:>9} {:>9} {:>10} {:>6} {:>6} {:>6} {:>8} {:>8} {:>10}{jod_head}",
+            "policy",
+            "knob",
+            "mean ms",
+            "p95 ms",
+            "tris/frm",
+            "LOD",
+            "sw/s",
+            "rev/s",
+            "FLIP",
+            "FLIP p95",
+            "vs screen"
+        );
+        for r in &self.rows {
+            let s = &r.summary;
+            let jod_cols = if self.fvvdp {
+                format!(
+                    " {:>6} {:>10} {:>9}",
+                    text(s.jod, &|j| format!("{j:.3}"), "-"),
+                    text(r.vs_screen_size_jod, &|r| format!("{r:.2}x"), "-"),
+                    text(s.jod_local_p999, &|r| format!("{r:.3}"), "-")
+                )
+            } else {
+                String::new()
+            };
+            // FLIP is not measured with `--metric fvvdp` alone: "-", not NaN.
+            let flip = |v: f64| text(v.is_finite().then_some(v), &|v| format!("{v:.4}"), "-");
+            let _ = writeln!(
+                out,
+                "{:<17} {:>8} {:>9.2} {:>9.2} {:>10.0} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>10}{jod_cols}",
+                s.policy.name(),
+                s.knob,
+                s.mean_ms,
+                s.p95_ms,
+                s.triangles,
+                s.mean_lod,
+                s.switches_per_s,
+                s.reversals_per_s,
+                flip(s.flip_mean),
+                flip(s.flip_p95),
+                text(r.vs_screen_size_flip, &|r| format!("{r:.2}x"), "-")
+            );
+        }
+        out
+    }
+
+    /// The rows as `error.csv` holds them, with its header.
+    pub fn csv(&self) -> String {
+        let mut csv = String::from(
+            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999\n",
+        );
+        for r in &self.rows {
+            let s = &r.summary;
+            let _ = writeln!(
+                csv,
+                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{}",
+                s.policy.name(),
+                s.knob,
+                s.mean_ms,
+                s.p95_ms,
+                s.triangles,
+                s.mean_lod,
+                s.switches_per_s,
+                s.flip_mean,
+                s.flip_p95,
+                text(r.vs_screen_size_flip, &|r| format!("{r:.4}"), ""),
+                text(s.jod, &|r| format!("{r:.4}"), ""),
+                text(r.vs_screen_size_jod, &|r| format!("{r:.4}"), ""),
+                s.reversals_per_s,
+                text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
+            );
+        }
+        csv
+    }
+}
+
+/// `v` formatted by `f`, or `none`.
+fn text(v: Option<f64>, f: &dyn Fn(f64) -> String, none: &str) -> String {
+    v.map_or(none.into(), f)
 }
 
 /// An error measure, for comparisons at equal error.

@@ -9,30 +9,31 @@ mod framerate;
 mod speedup;
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use anyhow::Context;
 
 pub use error_curve::{
-    ErrorArgs, ErrorMeasure, error, triangles_at_equal, triangles_at_equal_error,
+    ErrorArgs, ErrorMeasure, ErrorRow, ErrorSweep, error, triangles_at_equal,
+    triangles_at_equal_error,
 };
-pub use framerate::{FramerateArgs, framerate};
-pub use speedup::{PAPER_COUNTS, SpeedupArgs, SpeedupTrial, size_share, speedup};
+pub use framerate::{FramerateArgs, FramerateOutcome, framerate};
+pub use speedup::{PAPER_COUNTS, SpeedupArgs, SpeedupOutcome, SpeedupTrial, size_share, speedup};
 
 use crate::frames::{ProfileArgs, World};
-use crate::parse::parse_resolution;
 use crate::scene::Scene;
 
 /// Arguments of `acuity experiment`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct ExperimentArgs {
     /// Which experiment.
-    #[command(subcommand)]
+    #[cfg_attr(feature = "clap", command(subcommand))]
     pub which: Experiment,
 }
 
 /// The experiments.
-#[derive(clap::Subcommand, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Subcommand))]
 pub enum Experiment {
     /// Speedup of full acuity over full detail versus object count N, and
     /// the size component's share of the LOD reduction (Reddy 1998 §5.1–5.2).
@@ -48,13 +49,14 @@ pub enum Experiment {
 }
 
 /// Options every experiment shares.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone, Default)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct CommonArgs {
     /// Override the resolution, WIDTHxHEIGHT pixels (field of view kept).
-    #[arg(long, value_parser = parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_resolution))]
     pub resolution: Option<[u32; 2]>,
     /// Output folder (default `out/experiment-<name>/`).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: Option<PathBuf>,
     /// Write every played frame to `DIR/<policy>_<knob>/NNNN.png` (RGB, as
     /// rendered; knob as in the CSV, full detail is `full_1`, dumped even
@@ -62,10 +64,10 @@ pub struct CommonArgs {
     /// viewer's fixation in pixels, origin top-left, y down: the gaze, or
     /// `[gaze] viewer_object`'s centre), and DIR/display.json (resolution,
     /// fov_deg, fps, photometry, sequences).
-    #[arg(long, value_name = "DIR")]
+    #[cfg_attr(feature = "clap", arg(long, value_name = "DIR"))]
     pub dump_frames: Option<PathBuf>,
     /// Profiles and progress.
-    #[command(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub profiles: ProfileArgs,
 }
 
@@ -87,14 +89,4 @@ impl CommonArgs {
         std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
         Ok(out)
     }
-}
-
-/// `acuity experiment` as a command: errors print as one line, exit code
-/// as [`crate::exit`] says.
-pub fn command(args: &ExperimentArgs) -> ExitCode {
-    crate::exit::report(match &args.which {
-        Experiment::Speedup(a) => speedup(a).map(|_| ()),
-        Experiment::Error(a) => error(a).map(|_| ()),
-        Experiment::Framerate(a) => framerate(a).map(|_| ()),
-    })
 }

@@ -1,4 +1,4 @@
-//! `acuity blur`: the acuity image filter ([`crate::foveate`]) on a PNG
+//! `acuity blur`: the acuity image filter ([`crate::reddy2001::foveate`]) on a PNG
 //! (or on a generated photo-like test image), written as a side-by-side
 //! PNG like Reddy 2001's Fig. 5: the original, the filter for eccentricity
 //! alone, and for eccentricity and velocity.
@@ -8,52 +8,52 @@
 //! runs on linear values).
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use acuity::{EccentricityModel, VelocityModel};
 use anyhow::Context;
 use image::{Rgb, RgbImage};
 
-use crate::foveate::{Image, View, foveate};
-use crate::fractal::Fbm;
+use crate::reddy2001::foveate::{Image, View, foveate};
+use crate::reddy2001::fractal::Fbm;
 
 /// Arguments of `acuity blur`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct BlurArgs {
     /// The image (PNG, 8 or 16 bits, grey or colour; alpha is dropped).
     /// Without it, a generated 1920x1080 photo-like test image.
     pub image: Option<PathBuf>,
     /// The angles the image subtends, HORIZxVERT deg (Fig. 5: 150x100).
-    #[arg(long, value_parser = crate::parse::parse_angles)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_angles))]
     pub fov: [f32; 2],
     /// The gaze point, X,Y pixels from the top-left corner.
-    #[arg(long, value_parser = parse_point)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = parse_point))]
     pub gaze: (f32, f32),
     /// Size of the generated test image (without IMAGE), WIDTHxHEIGHT px.
-    #[arg(long, default_value = "1920x1080", value_parser = crate::parse::parse_resolution)]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "1920x1080", value_parser = crate::parse::parse_resolution))]
     pub test_size: [u32; 2],
     /// Retinal velocity of the third panel, deg/s (Fig. 5's caption: 50).
-    #[arg(long, default_value_t = 50.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 50.0))]
     pub velocity: f32,
     /// Global scale factor s in (0, 1].
-    #[arg(long, default_value_t = 1.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 1.0))]
     pub scale: f32,
     /// How acuity falls with eccentricity: `reddy2001` (the paper's, the
     /// default here) or `cortical_magnification`.
-    #[arg(long, default_value = "reddy2001")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "reddy2001"))]
     pub eccentricity_model: EccentricityModel,
     /// How acuity falls with velocity: `reddy2001` (the default here) or
     /// `kelly1979`.
-    #[arg(long, default_value = "reddy2001")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "reddy2001"))]
     pub velocity_model: VelocityModel,
     /// The side-by-side PNG to write.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub out: PathBuf,
 }
 
-/// `X,Y`: two finite numbers.
-fn parse_point(text: &str) -> Result<(f32, f32), String> {
+/// Parses `X,Y`: two finite numbers (a `--gaze` point, pixels).
+pub fn parse_point(text: &str) -> Result<(f32, f32), String> {
     let (a, b) = text
         .split_once(',')
         .ok_or_else(|| format!("`{text}` is not of the form X,Y"))?;
@@ -64,13 +64,9 @@ fn parse_point(text: &str) -> Result<(f32, f32), String> {
     Ok((parse(a)?, parse(b)?))
 }
 
-/// Runs `acuity blur`; prints the error on one line on failure, exit code
-/// as [`crate::exit`] says.
-pub fn command(args: &BlurArgs) -> ExitCode {
-    crate::exit::report(run(args))
-}
-
-fn run(args: &BlurArgs) -> anyhow::Result<()> {
+/// Runs `acuity blur`: filters the image (or the generated one) at each
+/// velocity, prints where the outputs went and writes them.
+pub fn run(args: &BlurArgs) -> anyhow::Result<()> {
     let image = match &args.image {
         Some(path) => load_linear(path)?,
         None => test_image(args.test_size[0] as usize, args.test_size[1] as usize),
@@ -115,7 +111,7 @@ fn run(args: &BlurArgs) -> anyhow::Result<()> {
 /// A PNG as linear-light RGB.
 fn load_linear(path: &Path) -> anyhow::Result<Image> {
     let decoded = image::open(path)
-        .map_err(|e| crate::exit::input_error(format!("reading {}: {e}", path.display())))?;
+        .map_err(|e| crate::error::input_error(format!("reading {}: {e}", path.display())))?;
     let rgb = decoded.to_rgb32f();
     let (width, height) = (rgb.width() as usize, rgb.height() as usize);
     let data = rgb.into_raw().into_iter().map(srgb_to_linear).collect();

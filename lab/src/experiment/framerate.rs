@@ -13,7 +13,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use crate::dump::{Metric, check_fvvdp, score_fvvdp};
-use crate::exit::input_error;
+use crate::error::input_error;
 use crate::limits;
 use crate::player::{PlaySettings, Player, PolicyRun};
 use crate::plot::{LinePlot, Series, save_line_plot};
@@ -25,37 +25,38 @@ use crate::scene::Policy;
 use super::CommonArgs;
 
 /// Arguments of `acuity experiment framerate`.
-#[derive(clap::Args, Debug, Clone)]
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct FramerateArgs {
     /// The scene.
-    #[arg(long, default_value = "scenes/vr_sweep.toml")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "scenes/vr_sweep.toml"))]
     pub scene: PathBuf,
     /// Target frame rate, Hz, 1 to 10,000 (default: the scene's). A
     /// software rasteriser cannot reach 90 Hz on this scene; pick a rate it
     /// can nearly hold.
-    #[arg(long, value_parser = crate::limits::parse_target_hz)]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::limits::parse_target_hz))]
     pub target_hz: Option<f64>,
     /// Frames, spread over the scene's path (default: the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64)))]
     pub frames: Option<u32>,
     /// Extra load during the spikes, as a fraction of the frame budget,
     /// 0 to 10.
-    #[arg(long, default_value_t = 0.5, value_parser = crate::limits::parse_spike_load)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 0.5, value_parser = crate::limits::parse_spike_load))]
     pub spike_load: f64,
     /// The screen-size table's bias for `screen_size_reactive` at `s = 1`
     /// (the controller multiplies it by its `s`), finite and > 0; 32 draws
     /// about as many triangles as `acuity_all` at `s = 1` on
     /// `scenes/vr_sweep.toml`.
-    #[arg(long, default_value_t = 32.0)]
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = 32.0))]
     pub screen_size_bias: f64,
     /// Error metrics, comma-separated: none by default; `fvvdp` scores
     /// every sequence with FovVideoVDP against full detail (needs Python
     /// with pyfvvdp; dumps the frames, to `<out>/frames/` without
     /// --dump-frames). `flip` is not offered here.
-    #[arg(long, value_delimiter = ',')]
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub metric: Vec<Metric>,
     /// Options every experiment shares.
-    #[command(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub common: CommonArgs,
 }
 
@@ -71,10 +72,20 @@ pub const FRAMERATE_POLICIES: [Policy; 8] = [
     Policy::AcuityPredictiveNoHeadroom,
 ];
 
+/// What [`framerate`] measured.
+#[derive(Debug, Clone)]
+pub struct FramerateOutcome {
+    /// One summary per policy.
+    pub summaries: Vec<Summary>,
+    /// The tables `acuity experiment framerate` prints: the target and its
+    /// load spikes, the policies' summaries, and the rates they held.
+    pub table: String,
+}
+
 /// Runs the frame-rate experiment; writes `framerate.csv` (per frame),
 /// `framerate_summary.csv` (the schedulers' table), `framerate_time.png`
 /// and `framerate_scale.png`; returns the summaries.
-pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
+pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     if args.metric.contains(&Metric::Flip) {
         return Err(input_error(
             "--metric: experiment framerate scores with fvvdp only",
@@ -142,7 +153,9 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
     if let (true, Some(dir)) = (fvvdp, &dump_dir) {
         attach_jod(&mut sums, &score_fvvdp(dir, args.common.profiles.quiet)?)?;
     }
-    println!(
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
         "target {:.1} Hz ({:.2} ms), spikes of +{extra_ms:.2} ms at {:.2}-{:.2} s and {:.2}-{:.2} s",
         world.scene.run.target_hz,
         world.scene.run.budget_s() * 1e3,
@@ -151,10 +164,10 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
         0.625 * d,
         0.75 * d
     );
-    print!("{}", format_table(&sums));
+    table.push_str(&format_table(&sums));
     let held = held_rates(&runs, &sums, world.scene.run.budget_s());
-    println!();
-    print!("{}", held_table(&held));
+    table.push('\n');
+    table.push_str(&held_table(&held));
     write_csv_with_json(&frames_csv(&runs), &out.join("framerate.csv"))?;
     write_csv_with_json(&held_csv(&held), &out.join("framerate_summary.csv"))?;
     let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
@@ -199,7 +212,10 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<Vec<Summary>> {
             out.display()
         );
     }
-    Ok(sums)
+    Ok(FramerateOutcome {
+        summaries: sums,
+        table,
+    })
 }
 
 /// How a policy held the frame rate.

@@ -553,7 +553,7 @@ pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
     let known = || Policy::ALL.into_iter().chain(Policy::EXTRA);
     known().find(|p| p.name() == name.trim()).ok_or_else(|| {
         let names: Vec<&str> = known().map(|p| p.name()).collect();
-        crate::exit::input_error(format!(
+        crate::error::input_error(format!(
             "unknown policy `{name}` (known: {})",
             names.join(", ")
         ))

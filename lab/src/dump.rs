@@ -4,7 +4,7 @@
 //! needs whole sequences with the gaze (FovVideoVDP, Mantiuk et al. 2021). A dump folder holds
 //! `display.json` and, per played sequence, `<policy>_<knob>/NNNN.png` (RGB,
 //! the frame as rendered) and `<policy>_<knob>/gaze.csv` (`frame,x_px,y_px`).
-//! [`score_fvvdp`] runs `cli/scripts/fvvdp_score.py` (built into the binary) on
+//! [`score_fvvdp`] runs `lab/scripts/fvvdp_score.py` (built into the binary) on
 //! one, as an external Python process with `pyfvvdp`.
 
 use std::collections::BTreeMap;
@@ -28,14 +28,15 @@ pub const REFERENCE_SEQUENCE: &str = "full_1";
 /// `python3`).
 pub const PYTHON_ENV: &str = "ACUITY_PYTHON";
 
-/// The scoring script, `cli/scripts/fvvdp_score.py`.
+/// The scoring script, `lab/scripts/fvvdp_score.py`.
 pub const FVVDP_SCRIPT: &str = include_str!("../scripts/fvvdp_score.py");
 
 /// Exit code of the script when `pyfvvdp` cannot be imported.
 const EXIT_NO_PYFVVDP: i32 = 3;
 
 /// The error metrics `acuity run` and `acuity experiment error` compute.
-#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Metric {
     /// FLIP (nv-flip) on sampled frames: foveal, per image.
     Flip,
@@ -213,7 +214,7 @@ fn run_script(args: &[&std::ffi::OsStr], quiet: bool) -> anyhow::Result<String> 
              install it with `{shown} -m pip install pyfvvdp`"
         ),
         _ => bail!(
-            "FovVideoVDP: cli/scripts/fvvdp_score.py failed under `{shown}` ({}){}",
+            "FovVideoVDP: lab/scripts/fvvdp_score.py failed under `{shown}` ({}){}",
             out.status,
             last.map_or_else(|| " (see above)".to_owned(), |l| format!(": {l}"))
         ),
