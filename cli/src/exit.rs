@@ -14,9 +14,9 @@ use std::process::ExitCode;
 
 use acuity_lab::error::{InputError, error_line};
 use acuity_lab::preprocess::PreprocessError;
-use acuity_lab::reddy2001::foveate::FoveateError;
 use acuity_lab::scene::SceneError;
 use acuity_lab::screen_size::ScreenSizeError;
+use acuity_reddy2001::foveate::FoveateError;
 
 /// Exit code for bad arguments or bad input.
 pub const INPUT: u8 = 2;

@@ -39,10 +39,10 @@ enum Command {
     Plot(acuity_lab::plot_csv::PlotArgs),
     /// Remove from an image the detail the acuity model predicts a viewer
     /// cannot see at a gaze point and velocity (Reddy 2001, Fig. 5).
-    Blur(acuity_lab::reddy2001::blur::BlurArgs),
+    Blur(acuity_reddy2001::blur::BlurArgs),
     /// View-dependent terrain under each combination of perceptual
     /// criteria over a recorded flight (Reddy 2001, Table 1).
-    Terrain(acuity_lab::reddy2001::terrain::TerrainArgs),
+    Terrain(acuity_reddy2001::terrain::TerrainArgs),
     /// The threshold frequency for one velocity and eccentricity.
     Acuity {
         /// Retinal velocity, deg/s (finite, >= 0).
@@ -177,8 +177,8 @@ fn main() -> ExitCode {
         Command::Run(args) => acuity_lab::run::run(&args).map(|run| print!("{}", run.table())),
         Command::Experiment(args) => experiment(&args),
         Command::Plot(args) => acuity_lab::plot_csv::plot(&args),
-        Command::Blur(args) => acuity_lab::reddy2001::blur::run(&args),
-        Command::Terrain(args) => acuity_lab::reddy2001::terrain::run(&args),
+        Command::Blur(args) => acuity_reddy2001::blur::run(&args),
+        Command::Terrain(args) => acuity_reddy2001::terrain::run(&args),
         Command::Preprocess(args) => acuity_lab::preprocess::run(&args),
         Command::Thresholds(display) => display
             .display()

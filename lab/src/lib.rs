@@ -36,16 +36,16 @@
 //! experiment`: speedup, error, framerate), [`plot_csv`] (`acuity plot`),
 //! [`preprocess`] (`acuity preprocess`, with [`library`]: asset folders
 //! and shards, and [`profiles`]: the profile cache), [`thresholds`]
-//! (`acuity thresholds`), and Reddy 2001's demos in [`reddy2001`] (`acuity
-//! blur`, `acuity terrain`). `run` and the experiments write their files
+//! (`acuity thresholds`). (Reddy 2001's demos, `acuity blur` and `acuity
+//! terrain`, are the crate `acuity-reddy2001`.) `run` and the experiments
+//! write their files
 //! and return what they measured with the table the command line prints;
-//! `preprocess`, `blur` and `terrain` print a line per object or image as
-//! they go (stdout). Progress goes to stderr unless `quiet` (a bar only on
+//! `preprocess` prints a line per object as it goes (stdout). Progress goes to stderr unless `quiet` (a bar only on
 //! a terminal).
 //!
 //! Errors: the commands return [`anyhow::Error`]s whose cause chain holds a
 //! typed error; [`error::InputError`], [`scene::SceneError`],
-//! [`screen_size::ScreenSizeError`], [`reddy2001::foveate::FoveateError`],
+//! [`screen_size::ScreenSizeError`],
 //! [`preprocess::PreprocessError::Usage`] and the runtime's, renderer's
 //! and image parsers' input kinds blame the input; everything else is a
 //! failure while running. [`error::error_line`] prints a chain on one line.
@@ -71,7 +71,6 @@ pub mod policy;
 pub mod preprocess;
 pub mod profiles;
 pub mod progress;
-pub mod reddy2001;
 pub mod report;
 pub mod run;
 pub mod scene;

@@ -2,10 +2,10 @@
 //! image, linear light), gaze at the centre, 150x100 deg, at rest and at
 //! 50 deg/s; on rayon's pool (set `RAYON_NUM_THREADS` to pin the cores).
 //!
-//! `cargo bench -p acuity-lab --bench foveate`.
+//! `cargo bench -p acuity-reddy2001 --bench foveate`.
 
-use acuity_lab::reddy2001::blur::test_image;
-use acuity_lab::reddy2001::foveate::{View, foveate};
+use acuity_reddy2001::blur::test_image;
+use acuity_reddy2001::foveate::{View, foveate};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn bench(c: &mut Criterion) {

@@ -1,13 +1,13 @@
 //! `acuity terrain`: Reddy 2001's Table 1 on acuity's view-dependent
 //! terrain ([`acuity::terrain`]): the recorded flight over the procedural
-//! valley ([`crate::reddy2001::flight`]) refined under six combinations of criteria,
+//! valley ([`crate::flight`]) refined under six combinations of criteria,
 //! with the average triangles and refinement time per frame beside the
 //! paper's numbers, as a printed table, CSV and bar plots.
 //!
 //! Measured: the refinement (the quadtree walk and the crack-free
 //! triangulation, on one core) every frame; with `--render-every N`, also
 //! every N-th frame drawn with the project's renderer
-//! ([`crate::reddy2001::terrain_render`]): the GPU-synchronised draw time, and FLIP
+//! ([`crate::terrain_render`]): the GPU-synchronised draw time, and FLIP
 //! against the full-resolution row's image of the same frame. The
 //! paper's frame times (SGI O2, 1999) are given for reference only.
 
@@ -19,10 +19,10 @@ use acuity::terrain::{Refinement, Terrain, TerrainSettings, TerrainView};
 use acuity::{Components, EccentricityModel, VelocityModel};
 use anyhow::Context;
 
-use crate::barplot::{BarPlot, save_bar_plot};
-use crate::reddy2001::flight::{Flight, Pose, ValleySettings, poses_csv};
-use crate::reddy2001::heightfield_file::HeightfieldFormat;
-use crate::reddy2001::terrain_render::TerrainRenderer;
+use crate::flight::{Flight, Pose, ValleySettings, poses_csv};
+use crate::heightfield_file::HeightfieldFormat;
+use crate::terrain_render::TerrainRenderer;
+use acuity_lab::barplot::{BarPlot, save_bar_plot};
 
 /// Arguments of `acuity terrain`.
 #[derive(Debug, Clone)]
@@ -33,14 +33,14 @@ pub struct TerrainArgs {
     pub out: PathBuf,
     /// Field of view, HORIZxVERT deg (Reddy: 200x135), as azimuth and
     /// elevation about the view direction.
-    #[cfg_attr(feature = "clap", arg(long, default_value = "200x135", value_parser = crate::parse::parse_angles))]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "200x135", value_parser = acuity_lab::parse::parse_angles))]
     pub fov: [f32; 2],
     /// Display resolution, WIDTHxHEIGHT px: with the field of view it sets
     /// the display limit xi = max(w / (2 h_fov), h / (2 v_fov)).
-    #[cfg_attr(feature = "clap", arg(long, default_value = "1280x1024", value_parser = crate::parse::parse_resolution))]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "1280x1024", value_parser = acuity_lab::parse::parse_resolution))]
     pub resolution: [u32; 2],
     /// Heightfield samples, WIDTHxHEIGHT (Reddy's Yosemite model: 661x847).
-    #[cfg_attr(feature = "clap", arg(long, default_value = "661x847", value_parser = crate::parse::parse_resolution))]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "661x847", value_parser = acuity_lab::parse::parse_resolution))]
     pub size: [u32; 2],
     /// A heightfield file instead of the procedural valley, the first row
     /// north, one sample per pixel or value: a PNG (grey, 8 or 16 bits;
@@ -53,7 +53,7 @@ pub struct TerrainArgs {
     pub heightfield: Option<PathBuf>,
     /// Size of a raw f32 --heightfield, COLUMNSxROWS (each 2 to 65537;
     /// the file must hold COLUMNS x ROWS x 4 bytes).
-    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::reddy2001::heightfield_file::parse_grid))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::heightfield_file::parse_grid))]
     pub grid: Option<[u32; 2]>,
     /// Metres between the samples of --heightfield.
     #[cfg_attr(feature = "clap", arg(long, default_value_t = 30.0))]
@@ -172,10 +172,10 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
 /// outputs.
 pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
     if !(0.1..=600.0).contains(&args.duration) {
-        crate::bail_input!("--duration {} s is outside [0.1, 600]", args.duration);
+        acuity_lab::bail_input!("--duration {} s is outside [0.1, 600]", args.duration);
     }
     if !(args.velocity_window > 0.0 && args.velocity_window <= 10.0) {
-        crate::bail_input!(
+        acuity_lab::bail_input!(
             "--velocity-window {} s is outside (0, 10]",
             args.velocity_window
         );
@@ -188,7 +188,7 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
                 height_range_m: args.height_range_m,
                 grid: args.grid,
             };
-            let field = crate::reddy2001::heightfield_file::load(path, &format)?;
+            let field = crate::heightfield_file::load(path, &format)?;
             let valley = ValleySettings {
                 size: field.size(),
                 spacing_m: args.spacing_m,
@@ -248,7 +248,7 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
         "display: {w}x{h} px over {}x{} deg, limit xi = {xi:.2} c/deg",
         args.fov[0], args.fov[1]
     );
-    let bar = crate::progress::bar((frames * ROWS.len()) as u64, "frames", args.quiet);
+    let bar = acuity_lab::progress::bar((frames * ROWS.len()) as u64, "frames", args.quiet);
     let mut renderer = if args.render_every > 0 {
         let r = TerrainRenderer::new(args.resolution, args.fov, &terrain)
             .context("drawing the terrain (--render-every 0 measures refinement alone)")?;
@@ -303,7 +303,7 @@ pub fn run(args: &TerrainArgs) -> anyhow::Result<()> {
                 references.push(drawn.image.rgba.clone());
             }
             let [w, h] = args.resolution;
-            let flip = crate::flip::flip_rgba(&references[k], &drawn.image.rgba, w, h, ppd)?;
+            let flip = acuity_lab::flip::flip_rgba(&references[k], &drawn.image.rgba, w, h, ppd)?;
             result.flip.push(flip.mean as f64);
             if k == frames / args.render_every as usize / 2 {
                 std::fs::create_dir_all(&args.out)?;
@@ -501,14 +501,17 @@ mod tests {
             ..args.clone()
         };
         let e = run(&bad).unwrap_err();
-        assert!(crate::error::error_line(&e).contains("fov_deg"), "{e:#}");
+        assert!(
+            acuity_lab::error::error_line(&e).contains("fov_deg"),
+            "{e:#}"
+        );
         let stray_grid = TerrainArgs {
             grid: Some([65, 129]),
             ..args.clone()
         };
         let e = run(&stray_grid).unwrap_err();
         assert!(
-            crate::error::error_line(&e).contains("none is given"),
+            acuity_lab::error::error_line(&e).contains("none is given"),
             "{e:#}"
         );
         // The same flight over a raw f32 grid of the same size.

@@ -1,7 +1,7 @@
 //! The acuity image filter (Reddy 2001, Fig. 5): remove from an image every
 //! detail the acuity model predicts a viewer cannot see, for one gaze point
 //! and one retinal velocity. Pure computation on `f32` pixel buffers; file
-//! formats are the command's business (`crate::reddy2001::blur`).
+//! formats are the command's business (`crate::blur`).
 //!
 //! Per pixel: its eccentricity `E` from the gaze, the threshold frequency
 //! `T = s * min(H(v, E), xi)` c/deg (Reddy 2001 eq. 4 with the display

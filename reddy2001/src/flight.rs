@@ -14,7 +14,7 @@ use acuity::Camera;
 use acuity::terrain::Heightfield;
 use glam::Vec3;
 
-use crate::reddy2001::fractal::Fbm;
+use crate::fractal::Fbm;
 
 /// The procedural terrain's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,7 +8,7 @@
 //! is drawn as planar tiles under 90 deg each (3 x 2 for 200 x 135 deg),
 //! every tile a render of the whole mesh by the camera turned to the
 //! tile, and resampled into one equiangular image of the whole field
-//! ([`crate::reddy2001::panorama`]): the image shows what the refinement selected
+//! ([`crate::panorama`]): the image shows what the refinement selected
 //! for, in the coordinates it selected in. The draw time is the upload,
 //! every tile's draw and read-back (each read-back waits for the GPU);
 //! the resampling is timed apart (a renderer would do it on the GPU as
@@ -22,7 +22,7 @@ use acuity_render::{Lighting, Mesh, RenderOutput, RenderRequest, Renderer, Rende
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 
-use crate::reddy2001::panorama::{Panorama, Tile};
+use crate::panorama::{Panorama, Tile};
 
 const NEAR_PLANE_M: f32 = 1.0;
 

@@ -1,5 +1,11 @@
-//! Reddy 2001's two demos of the acuity model beyond LOD selection: the
-//! acuity image filter and view-dependent terrain.
+//! `acuity-reddy2001`: Reddy 2001's two demos of the acuity model beyond
+//! LOD selection: the acuity image filter and view-dependent terrain.
+//!
+//! A crate of its own beside the lab (`acuity-lab`), whose charts, FLIP,
+//! input errors and progress bars it uses: the image filter is pure and
+//! useful on its own (an engine's foveated post-process), and the terrain
+//! demo is not an LOD experiment. With the `clap` feature the commands'
+//! options structs derive `clap::Args`.
 //!
 //! - [`foveate`]: the acuity image filter (Reddy 2001, Fig. 5), pure (an
 //!   image in, an image out); [`blur`]: `acuity blur`, the filter on a PNG

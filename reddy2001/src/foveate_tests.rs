@@ -219,7 +219,7 @@ proptest! {
     fn output_stays_within_the_input_range(
         seed in 0u64..1000, v in 0.0f32..200.0, gx in 0.0f32..1.0, gy in 0.0f32..1.0,
     ) {
-        let noise = crate::reddy2001::fractal::Fbm { seed, base_period: 4.0, octaves: 3, persistence: 0.5 };
+        let noise = crate::fractal::Fbm { seed, base_period: 4.0, octaves: 3, persistence: 0.5 };
         let (w, h) = (37, 23);
         let image = Image { width: w, height: h, channels: 1, data: noise.grid(w, h) };
         let view = View {

@@ -1,4 +1,4 @@
-//! `acuity blur`: the acuity image filter ([`crate::reddy2001::foveate`]) on a PNG
+//! `acuity blur`: the acuity image filter ([`crate::foveate`]) on a PNG
 //! (or on a generated photo-like test image), written as a side-by-side
 //! PNG like Reddy 2001's Fig. 5: the original, the filter for eccentricity
 //! alone, and for eccentricity and velocity.
@@ -14,8 +14,8 @@ use acuity::{EccentricityModel, VelocityModel};
 use anyhow::Context;
 use image::{Rgb, RgbImage};
 
-use crate::reddy2001::foveate::{Image, View, foveate};
-use crate::reddy2001::fractal::Fbm;
+use crate::foveate::{Image, View, foveate};
+use crate::fractal::Fbm;
 
 /// Arguments of `acuity blur`.
 #[derive(Debug, Clone)]
@@ -25,13 +25,13 @@ pub struct BlurArgs {
     /// Without it, a generated 1920x1080 photo-like test image.
     pub image: Option<PathBuf>,
     /// The angles the image subtends, HORIZxVERT deg (Fig. 5: 150x100).
-    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_angles))]
+    #[cfg_attr(feature = "clap", arg(long, value_parser = acuity_lab::parse::parse_angles))]
     pub fov: [f32; 2],
     /// The gaze point, X,Y pixels from the top-left corner.
     #[cfg_attr(feature = "clap", arg(long, value_parser = parse_point))]
     pub gaze: (f32, f32),
     /// Size of the generated test image (without IMAGE), WIDTHxHEIGHT px.
-    #[cfg_attr(feature = "clap", arg(long, default_value = "1920x1080", value_parser = crate::parse::parse_resolution))]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "1920x1080", value_parser = acuity_lab::parse::parse_resolution))]
     pub test_size: [u32; 2],
     /// Retinal velocity of the third panel, deg/s (Fig. 5's caption: 50).
     #[cfg_attr(feature = "clap", arg(long, default_value_t = 50.0))]
@@ -111,7 +111,7 @@ pub fn run(args: &BlurArgs) -> anyhow::Result<()> {
 /// A PNG as linear-light RGB.
 fn load_linear(path: &Path) -> anyhow::Result<Image> {
     let decoded = image::open(path)
-        .map_err(|e| crate::error::input_error(format!("reading {}: {e}", path.display())))?;
+        .map_err(|e| acuity_lab::error::input_error(format!("reading {}: {e}", path.display())))?;
     let rgb = decoded.to_rgb32f();
     let (width, height) = (rgb.width() as usize, rgb.height() as usize);
     let data = rgb.into_raw().into_iter().map(srgb_to_linear).collect();
@@ -152,7 +152,7 @@ fn side_by_side(panels: &[(Image, String)]) -> anyhow::Result<RgbImage> {
     let mut out = RgbImage::from_pixel(n * w + (n - 1) * GAP, h + STRIP, Rgb([255, 255, 255]));
     for (i, (panel, label)) in panels.iter().enumerate() {
         let x0 = i as u32 * (w + GAP);
-        crate::plot::draw_label(&mut out, x0 as i32 + 4, 8, label, 24)?;
+        acuity_lab::plot::draw_label(&mut out, x0 as i32 + 4, 8, label, 24)?;
         let c = panel.channels;
         for y in 0..h {
             for x in 0..w {

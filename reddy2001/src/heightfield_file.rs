@@ -25,7 +25,7 @@ pub struct HeightfieldFormat {
 /// Parses `--grid COLUMNSxROWS` (two whole numbers; [`load`] checks their
 /// range against the heightfield's limits).
 pub fn parse_grid(text: &str) -> Result<[u32; 2], String> {
-    crate::parse::parse_pair(text, "COLUMNSxROWS", |s| {
+    acuity_lab::parse::parse_pair(text, "COLUMNSxROWS", |s| {
         s.parse::<u32>()
             .map_err(|_| format!("`{s}` in `{text}` is not a whole number of samples"))
     })
@@ -44,7 +44,7 @@ pub fn is_raw(path: &Path) -> bool {
 pub fn load(path: &Path, format: &HeightfieldFormat) -> anyhow::Result<Heightfield> {
     if is_raw(path) {
         let Some(grid) = format.grid else {
-            crate::bail_input!(
+            acuity_lab::bail_input!(
                 "{}: a raw f32 heightfield needs its size: --grid COLUMNSxROWS",
                 path.display()
             );
@@ -52,7 +52,7 @@ pub fn load(path: &Path, format: &HeightfieldFormat) -> anyhow::Result<Heightfie
         load_raw(path, grid, format.spacing_m)
     } else {
         if let Some([w, h]) = format.grid {
-            crate::bail_input!(
+            acuity_lab::bail_input!(
                 "--grid {w}x{h} is for raw f32 heightfields (.f32, .raw); {} is read as an image of its own size",
                 path.display()
             );
@@ -64,7 +64,7 @@ pub fn load(path: &Path, format: &HeightfieldFormat) -> anyhow::Result<Heightfie
 /// A grey PNG: black is 0 m, white `range_m`.
 fn load_png(path: &Path, spacing_m: f32, range_m: f32) -> anyhow::Result<Heightfield> {
     if !(range_m.is_finite() && range_m > 0.0) {
-        crate::bail_input!("--height-range-m {range_m} is not a finite height > 0");
+        acuity_lab::bail_input!("--height-range-m {range_m} is not a finite height > 0");
     }
     let grey = image::open(path)
         .with_context(|| format!("reading {}", path.display()))?
@@ -83,7 +83,7 @@ fn load_png(path: &Path, spacing_m: f32, range_m: f32) -> anyhow::Result<Heightf
 fn load_raw(path: &Path, [columns, rows]: [u32; 2], spacing_m: f32) -> anyhow::Result<Heightfield> {
     let side = 2..=MAX_HEIGHTFIELD_SIDE as u64;
     if !(side.contains(&u64::from(columns)) && side.contains(&u64::from(rows))) {
-        crate::bail_input!(
+        acuity_lab::bail_input!(
             "--grid {columns}x{rows}: each side must be 2 to {MAX_HEIGHTFIELD_SIDE} samples"
         );
     }
@@ -92,7 +92,7 @@ fn load_raw(path: &Path, [columns, rows]: [u32; 2], spacing_m: f32) -> anyhow::R
         .with_context(|| format!("reading {}", path.display()))?
         .len();
     if actual != expected {
-        crate::bail_input!(
+        acuity_lab::bail_input!(
             "{}: {actual} bytes, but --grid {columns}x{rows} needs {columns} x {rows} x 4 = {expected} bytes of f32",
             path.display()
         );
@@ -111,7 +111,7 @@ fn load_raw(path: &Path, [columns, rows]: [u32; 2], spacing_m: f32) -> anyhow::R
         let height_m = f32::from_le_bytes([value[0], value[1], value[2], value[3]]);
         let (row, column) = (n / w, n % w);
         if !height_m.is_finite() {
-            crate::bail_input!(
+            acuity_lab::bail_input!(
                 "{}: the sample at row {row} (from the first, north), column {column} is {height_m}; heights must be finite metres",
                 path.display()
             );
