@@ -123,7 +123,7 @@ pub struct Gaze {
     pub tracker: Tracker,
     /// The object the eyes pursue, if any: its retinal velocity is 0
     /// (smooth pursuit keeps it still on the retina; Reddy 2001).
-    pub pursued: Option<crate::select::ObjectId>,
+    pub pursued: Option<crate::select::object_id::ObjectId>,
 }
 
 impl Gaze {

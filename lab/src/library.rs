@@ -17,6 +17,17 @@
 
 use std::path::{Path, PathBuf};
 
+use acuity_preprocess::pipeline::ObjectSource;
+
+/// One object to preprocess.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Job {
+    /// The object's name.
+    pub name: String,
+    /// Its LOD source.
+    pub source: ObjectSource,
+}
+
 /// A shard `K/N` of a job list (1-based `k`, `1 <= k <= n`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
@@ -135,7 +146,7 @@ pub fn manifest_assets(manifest: &Path) -> Result<Vec<(String, PathBuf)>, String
 /// no job. Prints one line per problem and a summary; an error (exit 1)
 /// when any job lacks an up-to-date profile. Renders nothing.
 pub fn check_profiles(
-    jobs: &[crate::preprocess::Job],
+    jobs: &[Job],
     settings: &acuity_preprocess::AnalysisSettings,
     out_dir: &Path,
     all: bool,

@@ -45,6 +45,7 @@ use acuity_preprocess::views;
 use acuity_render::{Renderer, RendererOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::library::Job;
 use crate::profiles::{self, object_source};
 use crate::scene::{ProfileSpec, Scene};
 use acuity::rows::{FieldCsfs, transition_critical_cdiam};
@@ -147,15 +148,6 @@ pub enum PreprocessError {
         /// Objects in the input.
         total: usize,
     },
-}
-
-/// One object to preprocess.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Job {
-    /// The object's name.
-    pub name: String,
-    /// Its LOD source.
-    pub source: ObjectSource,
 }
 
 /// The objects named by `args.path`, the default profile folder, and a

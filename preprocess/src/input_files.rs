@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::Error;
+use crate::inputs::{AnalysisSettings, ObjectSource};
 use crate::lods::{self, ProceduralParams};
-use crate::pipeline::{AnalysisSettings, ObjectSource};
 
 /// BLAKE3 of `bytes`, 64 lowercase hex digits (the form of every hash
 /// in a profile).
@@ -98,7 +98,7 @@ pub struct InputHash {
 /// MTL file it names (`mtllib`, resolved next to the OBJ) and each texture
 /// those name (`map_Kd`), for a glTF each external buffer and image
 /// (`missing` for a named file that is absent); the LOD-generation or
-/// procedural parameters, and the settings (with [`crate::pipeline::ANALYSIS_VERSION`]).
+/// procedural parameters, and the settings (with [`crate::inputs::ANALYSIS_VERSION`]).
 /// Equal hashes mean the analysis would give the same result. Unreadable
 /// mesh files are an [`Error::Io`].
 pub fn input_hashes(

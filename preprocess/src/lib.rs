@@ -10,7 +10,8 @@
 //! triangle count), [`views`] (viewpoints and camera), [`segment`] (CIELUV
 //! and region growing), [`frequency`] (a feature's size as a frequency),
 //! [`features`] (the unique features of a transition and their contrast),
-//! [`pipeline`] (the whole analysis), [`input_files`] (the files an
+//! [`inputs`] (what an analysis takes: the object's LOD source and the
+//! settings), [`pipeline`] (the whole analysis), [`input_files`] (the files an
 //! analysis reads, hashed for the cache), [`export`] (an analysed chain
 //! written as `.glb` and OBJ), [`sample`] (a textured test asset made by
 //! code).
@@ -23,6 +24,7 @@ pub mod export;
 pub mod features;
 pub mod frequency;
 pub mod input_files;
+pub mod inputs;
 pub mod lods;
 pub mod pipeline;
 pub mod sample;

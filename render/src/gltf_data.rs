@@ -3,9 +3,16 @@
 //! buffer view and buffer it lies in, so a bad file is an error naming the
 //! accessor or view, never an out-of-bounds read.
 
+use std::path::PathBuf;
+
 use gltf::accessor::{DataType, Dimensions};
 
-use crate::gltf_mesh::FileResolver;
+/// How [`parse_gltf`](crate::gltf_mesh::parse_gltf) reads a file a glTF
+/// names (buffer or image URI, percent-decoded, relative to the glTF
+/// file): the resolved path and its bytes, or an I/O error. Here, where
+/// the files are read, so this module does not depend on the loader built
+/// on it; re-exported as `gltf_mesh::FileResolver`.
+pub type FileResolver<'a> = dyn FnMut(&str) -> std::io::Result<(PathBuf, Vec<u8>)> + 'a;
 
 /// Largest element count of an accessor without a buffer view (all zeros),
 /// so a file cannot make the loader allocate without bound.

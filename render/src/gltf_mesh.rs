@@ -55,6 +55,8 @@ use crate::gltf_data::{percent_decode, read_buffers, read_floats, read_indices, 
 use crate::texture::{Texture, Wrap};
 use crate::{Error, Mesh};
 
+pub use crate::gltf_data::FileResolver;
+
 /// How a glTF file's LOD chain was found (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LodRule {
@@ -76,11 +78,6 @@ pub struct GltfLods {
     /// Non-fatal problems, each naming the file.
     pub warnings: Vec<String>,
 }
-
-/// How [`parse_gltf`] reads a file a glTF names (buffer or image URI,
-/// percent-decoded, relative to the glTF file): the resolved path and its
-/// bytes, or an I/O error.
-pub type FileResolver<'a> = dyn FnMut(&str) -> std::io::Result<(PathBuf, Vec<u8>)> + 'a;
 
 /// Deepest node hierarchy accepted (and the guard against cycles).
 const MAX_NODE_DEPTH: usize = 256;

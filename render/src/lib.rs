@@ -74,6 +74,7 @@ pub mod gltf_write;
 mod instances;
 pub mod mesh;
 mod mtl;
+mod obj_text;
 pub mod obj_write;
 pub mod texture;
 

@@ -48,14 +48,18 @@
 //! - Other keywords (`o`, `g`, `s`, `vp`, curves, ...) are ignored.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use glam::Vec3;
 
 use crate::Error;
 use crate::mtl::{MtlEntry, parse_mtl};
+use crate::obj_text::parse_numbers;
 use crate::texture::Texture;
+
+pub use crate::mtl::MtlResolver;
+pub use crate::obj_text::{decode_text, split_lines};
 
 /// Colour used when a face has neither a vertex colour nor a material:
 /// linear RGB 0.5 (sRGB about 188), a mid grey.
@@ -225,11 +229,6 @@ pub fn load_obj(path: &Path) -> Result<LoadedMesh, Error> {
     };
     parse_obj(&bytes, path, &mut resolve)
 }
-
-/// How [`parse_obj`] finds an MTL file named by `mtllib`: given the name as
-/// written, return the resolved path and its bytes, or an I/O error (which
-/// becomes a warning).
-pub type MtlResolver<'a> = dyn FnMut(&str) -> std::io::Result<(PathBuf, Vec<u8>)> + 'a;
 
 /// Parses OBJ bytes. `path` is only used in messages. Never panics.
 pub fn parse_obj(
@@ -524,38 +523,6 @@ fn one_texture_message(textured: Option<&str>, other: &str) -> String {
     )
 }
 
-/// Parses finite `f32`s; the message names the keyword and the bad token.
-pub(crate) fn parse_numbers<'a>(
-    toks: impl Iterator<Item = &'a str>,
-    line: usize,
-    kw: &str,
-    path: &Path,
-) -> Result<Vec<f32>, Error> {
-    let mut out = Vec::with_capacity(4);
-    for t in toks {
-        match t.parse::<f32>() {
-            Ok(x) if x.is_finite() => out.push(x),
-            Ok(_) => {
-                return Err(Error::Parse {
-                    path: path.to_owned(),
-                    line,
-                    message: format!(
-                        "`{kw}`: `{t}` is not a finite 32-bit number (NaN, infinite or beyond ±3.4e38)"
-                    ),
-                });
-            }
-            Err(_) => {
-                return Err(Error::Parse {
-                    path: path.to_owned(),
-                    line,
-                    message: format!("`{kw}`: `{t}` is not a number"),
-                });
-            }
-        }
-    }
-    Ok(out)
-}
-
 /// Parses one face corner `v[/vt[/vn]]` into 0-based (position, texture
 /// coordinate, normal).
 fn parse_corner(
@@ -604,61 +571,10 @@ fn parse_corner(
     Ok((v, t, n))
 }
 
-/// Decodes the text of an OBJ or MTL file as the loader reads it: UTF-8
-/// (BOM skipped), UTF-16 with BOM, or lossy bytes. `path` only names the
-/// file in the error (UTF-16 with an odd number of bytes). Public for the
-/// offline pass, which hashes the MTL files an OBJ names.
-pub fn decode_text(bytes: &[u8], path: &Path) -> Result<String, Error> {
-    let utf16 = |be: bool| -> Result<String, Error> {
-        let body = &bytes[2..];
-        if !body.len().is_multiple_of(2) {
-            return Err(Error::InvalidMesh {
-                path: path.to_owned(),
-                message: "UTF-16 text (byte-order mark) with an odd number of bytes".into(),
-            });
-        }
-        let units: Vec<u16> = body
-            .chunks_exact(2)
-            .map(|c| {
-                if be {
-                    u16::from_be_bytes([c[0], c[1]])
-                } else {
-                    u16::from_le_bytes([c[0], c[1]])
-                }
-            })
-            .collect();
-        Ok(String::from_utf16_lossy(&units))
-    };
-    match bytes {
-        [0xFF, 0xFE, ..] => utf16(false),
-        [0xFE, 0xFF, ..] => utf16(true),
-        [0xEF, 0xBB, 0xBF, rest @ ..] => Ok(String::from_utf8_lossy(rest).into_owned()),
-        _ => Ok(String::from_utf8_lossy(bytes).into_owned()),
-    }
-}
-
-/// Splits on `\n`, `\r\n` and lone `\r`, keeping line numbers right (the
-/// loader's lines; public with [`decode_text`]).
-pub fn split_lines(text: &str) -> impl Iterator<Item = &str> {
-    let mut rest = Some(text);
-    std::iter::from_fn(move || {
-        let s = rest?;
-        match s.find(['\n', '\r']) {
-            Some(i) => {
-                let skip = if s[i..].starts_with("\r\n") { 2 } else { 1 };
-                rest = Some(&s[i + skip..]);
-                Some(&s[..i])
-            }
-            None => {
-                rest = None;
-                if s.is_empty() { None } else { Some(s) }
-            }
-        }
-    })
-}
-
 #[cfg(test)]
 mod tests {
+    use std::path::PathBuf;
+
     use super::*;
     use crate::texture::Wrap;
 
@@ -752,11 +668,5 @@ mod tests {
         assert!(e.to_string().contains("one base-colour texture"), "{e}");
         let e = parse_with_files(TEXTURED_QUAD, "newmtl a\nmap_Kd t.mtl\n").unwrap_err();
         assert!(e.to_string().contains("t.mtl"), "{e}");
-    }
-
-    #[test]
-    fn split_lines_handles_endings() {
-        let v: Vec<&str> = split_lines("a\r\nb\rc\n\nd").collect();
-        assert_eq!(v, ["a", "b", "c", "", "d"]);
     }
 }

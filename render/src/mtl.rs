@@ -2,12 +2,18 @@
 //! diffuse colour `Kd` and base-colour texture `map_Kd` (rules in
 //! [`crate::mesh`]'s module docs).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::Error;
-use crate::mesh::{MtlResolver, decode_text, parse_numbers, split_lines};
+use crate::obj_text::{decode_text, parse_numbers, split_lines};
 use crate::texture::{Texture, Wrap};
+
+/// How [`parse_obj`](crate::mesh::parse_obj) finds an MTL file named by
+/// `mtllib` (and this module a texture named by `map_Kd`): given the name
+/// as written, return the resolved path and its bytes, or an I/O error
+/// (which becomes a warning). Re-exported as `mesh::MtlResolver`.
+pub type MtlResolver<'a> = dyn FnMut(&str) -> std::io::Result<(PathBuf, Vec<u8>)> + 'a;
 
 /// A material as the loader uses it: diffuse colour `Kd` (linear RGB) and
 /// base-colour texture `map_Kd`, each if any.

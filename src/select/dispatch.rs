@@ -11,19 +11,12 @@ use super::BLOCK;
 #[cfg(feature = "simd-dispatch")]
 use super::SimdLevel;
 use super::frame::FrameConsts;
-use super::kernel::kernel;
-use super::store::{Block, BudgetEntry, MotionBlock};
-use super::{Diagnostics, Selection};
+use super::kernel::{Outputs, kernel};
+use super::store::{Block, MotionBlock};
 
 /// Objects per parallel work item; a whole number of blocks.
 #[cfg_attr(not(feature = "parallel"), allow(dead_code))]
 pub(super) const CHUNK: usize = 4096;
-
-pub(super) struct Outputs<'a> {
-    pub(super) selections: &'a mut [Selection],
-    pub(super) diagnostics: Option<&'a mut [Diagnostics]>,
-    pub(super) budget: Option<&'a mut [BudgetEntry]>,
-}
 
 type Kernel = fn(&FrameConsts<'_>, &[Block], &mut [MotionBlock], u32, Outputs<'_>);
 

@@ -16,7 +16,6 @@ use crate::acuity::{
 use crate::fastmath;
 use crate::viewpoints;
 
-use super::dispatch::Outputs;
 use super::frame::FrameConsts;
 use super::rule::{count_coarser_padded, count_rows, rung_and_judged_size, rung_of};
 use super::store::{Block, BudgetEntry, MotionBlock};
@@ -186,6 +185,16 @@ fn cull_block<const CULL: bool, const NEAREST: bool>(
         };
         visible[i] = (seen & (i < live)) as u32;
     }
+}
+
+/// The loop's outputs for a run of objects (all of them, or one parallel
+/// work item of `dispatch`): selections, and diagnostics and budget
+/// entries when asked for. Defined here, with the loop that writes them,
+/// so `dispatch` depends on `kernel` and not the other way round.
+pub(super) struct Outputs<'a> {
+    pub(super) selections: &'a mut [Selection],
+    pub(super) diagnostics: Option<&'a mut [Diagnostics]>,
+    pub(super) budget: Option<&'a mut [BudgetEntry]>,
 }
 
 #[inline(always)]

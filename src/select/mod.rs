@@ -48,7 +48,8 @@
 //! to list the objects whose selection changed, and cross-fades advance.
 //!
 //! Code: `selector` (profiles, selection within a budget), `objects`
-//! (object handles, adding, removing, changing objects), `adjust` (bias
+//! (object handles, adding, removing, changing objects), `object_id` (the
+//! handle type, a leaf that `camera` names too), `adjust` (bias
 //! and clamps), `changes` (the change list and cross-fades), `store` and
 //! `tables` (the object blocks and the compiled profiles), `frame` (a
 //! frame's constants), `dispatch` (vector width and parallel split),
@@ -70,6 +71,7 @@ mod dispatch;
 mod frame;
 mod hysteresis;
 mod kernel;
+pub(crate) mod object_id;
 mod objects;
 mod rule;
 mod selector;
@@ -78,6 +80,7 @@ mod tables;
 #[cfg(test)]
 mod tests;
 
+pub use object_id::ObjectId;
 pub use rule::lod_for_threshold;
 pub use selector::Selector;
 
@@ -90,24 +93,6 @@ const NO_LOOKUP: u32 = u32::MAX;
 /// 118 deg/s ceiling, and keeps the smoothing finite for absurd `dt`.
 pub const MAX_VELOCITY_DEG_PER_S: f32 = 1e6;
 const RAD_TO_DEG: f32 = 180.0 / std::f32::consts::PI;
-
-/// Handle of an object added to a [`Selector`].
-///
-/// An id stays valid until its object is removed, whatever else is added,
-/// removed or changed meanwhile (objects are stored densely and moved when
-/// others are removed; the id goes through a table of handles). After
-/// [`Selector::remove_object`] the id is stale: methods that take it
-/// return an error (the accessors [`Selector::selection`],
-/// [`Selector::diagnostics`] and [`Selector::fade`] panic), also once its
-/// table entry holds a new object, which gets a new generation (entries
-/// are reused; a generation
-/// repeats only after 2^32 reuses of one entry). Ids are not tied to their
-/// selector: one from another selector may name an object of this one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ObjectId {
-    index: u32,
-    generation: u32,
-}
 
 /// An object's cross-fade from one LOD to another
 /// ([`SelectorSettings::fade_time_s`]), for a renderer to blend or dither:

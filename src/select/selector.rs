@@ -15,8 +15,9 @@ use crate::rows;
 use crate::viewpoints::ViewpointLookup;
 
 use super::adjust::Adjust;
-use super::dispatch::{Outputs, dispatch, widest};
+use super::dispatch::{dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
+use super::kernel::Outputs;
 use super::objects::{Handle, SingleRecord};
 use super::rule::count_coarser;
 use super::store::{Block, BudgetEntry, MotionBlock};
