@@ -7,15 +7,13 @@
 //! An error is input's fault when any error along its cause chain is of an
 //! input kind ([`is_input_error`]): the typed errors of the scene, profile
 //! and mesh parsers and of the checks of images and threshold tables, and
-//! the lab's [`InputError`], which the commands raise for values clap
-//! cannot check by itself. Everything else is a run-time failure.
+//! the lab's `InputError`, which the commands raise for values clap cannot
+//! check by itself. Everything else is a run-time failure.
 
 use std::process::ExitCode;
 
-use acuity_lab::error::{InputError, error_line};
-use acuity_lab::preprocess::PreprocessError;
-use acuity_lab::scene::SceneError;
-use acuity_lab::screen_size::ScreenSizeError;
+use acuity_lab::blame::is_input_kind;
+use acuity_lab::error::error_line;
 use acuity_reddy2001::foveate::FoveateError;
 
 /// Exit code for bad arguments or bad input.
@@ -23,37 +21,11 @@ pub const INPUT: u8 = 2;
 /// Exit code for a failure while running.
 pub const RUNTIME: u8 = 1;
 
-/// Whether any error along `e`'s cause chain blames the input.
+/// Whether any error along `e`'s cause chain blames the input: the lab's
+/// input kinds ([`is_input_kind`]) and the image filter's settings.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
-    e.chain().any(|cause| {
-        if cause.is::<InputError>()
-            || cause.is::<SceneError>()
-            || cause.is::<FoveateError>()
-            || cause.is::<ScreenSizeError>()
-        {
-            return true;
-        }
-        if let Some(e) = cause.downcast_ref::<acuity::Error>() {
-            return !matches!(e, acuity::Error::Io { .. });
-        }
-        if let Some(e) = cause.downcast_ref::<acuity_render::Error>() {
-            use acuity_render::Error as R;
-            return matches!(
-                e,
-                R::Parse { .. } | R::InvalidMesh { .. } | R::LodChain { .. } | R::Settings { .. }
-            );
-        }
-        if let Some(e) = cause.downcast_ref::<image::ImageError>() {
-            return matches!(
-                e,
-                image::ImageError::Decoding(_) | image::ImageError::Unsupported(_)
-            );
-        }
-        matches!(
-            cause.downcast_ref::<PreprocessError>(),
-            Some(PreprocessError::Usage(_))
-        )
-    })
+    e.chain()
+        .any(|cause| is_input_kind(cause) || cause.is::<FoveateError>())
 }
 
 /// The exit code for `e`: [`INPUT`] or [`RUNTIME`].

@@ -1,4 +1,4 @@
-//! The scene parser: `acuity_cli::scene::Scene::parse` on the input as
+//! The scene parser: `acuity_lab::scene::Scene::parse` on the input as
 //! (lossy) UTF-8. It does not touch the file system.
 #![no_main]
 
@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let _ = acuity_cli::scene::Scene::parse(&text, "fuzz.toml");
+    let _ = acuity_lab::scene::Scene::parse(&text, "fuzz.toml");
 });

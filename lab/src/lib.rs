@@ -48,10 +48,12 @@
 //! [`screen_size::ScreenSizeError`],
 //! [`preprocess::PreprocessError::Usage`] and the runtime's, renderer's
 //! and image parsers' input kinds blame the input; everything else is a
-//! failure while running. [`error::error_line`] prints a chain on one line.
+//! failure while running ([`blame::blames_input`] tells which).
+//! [`error::error_line`] prints a chain on one line.
 
 mod arrays;
 pub mod barplot;
+pub mod blame;
 pub mod crossfade;
 pub mod dump;
 pub mod error;

@@ -11,11 +11,11 @@ use std::path::PathBuf;
 use std::rc::Rc;
 use std::time::Instant;
 
-use acuity_cli::frames::World;
-use acuity_cli::gaze::Gaze as GazePath;
-use acuity_cli::limits::MIN_SCALE;
-use acuity_cli::policy::{PolicyRunner, fit_cost_model};
-use acuity_cli::scene::Policy;
+use acuity_lab::frames::World;
+use acuity_lab::gaze::Gaze as GazePath;
+use acuity_lab::limits::MIN_SCALE;
+use acuity_lab::policy::{PolicyRunner, fit_cost_model};
+use acuity_lab::scene::Policy;
 use anyhow::Context;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;

@@ -5,8 +5,8 @@
 use std::ffi::OsString;
 use std::path::PathBuf;
 
-use acuity_cli::exit::input_error;
-use acuity_cli::scene::{Policy, policy_by_name};
+use acuity_lab::error::input_error;
+use acuity_lab::scene::{Policy, policy_by_name};
 
 /// The scene played when none is given, relative to the current folder.
 pub const DEFAULT_SCENE: &str = "scenes/default.toml";
@@ -53,7 +53,7 @@ pub struct Options {
 }
 
 /// Parses the arguments after the program name. Errors are input errors
-/// ([`acuity_cli::exit::InputError`]) naming the argument at fault.
+/// ([`acuity_lab::error::InputError`]) naming the argument at fault.
 pub fn parse(args: impl IntoIterator<Item = OsString>) -> anyhow::Result<Command> {
     let mut scene: Option<PathBuf> = None;
     let mut options = Options {
@@ -153,7 +153,7 @@ mod tests {
 
     fn error(args: &[&str]) -> String {
         let e = parse_str(args).unwrap_err();
-        assert!(acuity_cli::exit::is_input_error(&e), "{e}");
+        assert!(acuity_lab::blame::blames_input(&e), "{e}");
         e.to_string()
     }
 

@@ -11,7 +11,7 @@
 //! quit. The title shows the policy, `s`, the triangles drawn as a share
 //! of full detail and frames per second.
 //!
-//! Frames are drawn by the scene player's [`acuity_cli::frames::World`]:
+//! Frames are drawn by the scene player's [`acuity_lab::frames::World`]:
 //! the same headless wgpu renderer, MSAA and pixels that `acuity run`
 //! measures, read back to RGBA and put in the window through softbuffer
 //! (scaled nearest-neighbour, letterboxed). So the viewer shows exactly
@@ -23,7 +23,7 @@
 //! command line), [`keys`] (key to action), [`present`] (the overlay's
 //! colours, pixel packing, letterboxing) and [`clock`] (the looping
 //! clock); [`app`] is the window loop. Exit codes follow the `acuity`
-//! tool's ([`acuity_cli::exit`]): 2 for a bad argument or scene, 1 for a
+//! tool's: 2 for a bad argument or scene ([`acuity_lab::blame`]), 1 for a
 //! failure while running (no display included).
 
 mod app;
@@ -34,8 +34,8 @@ mod present;
 
 use std::process::ExitCode;
 
-use acuity_cli::frames::{LoadOptions, World};
-use acuity_cli::scene::{Policy, Scene};
+use acuity_lab::frames::{LoadOptions, World};
+use acuity_lab::scene::{Policy, Scene};
 use anyhow::Context;
 use winit::event_loop::EventLoop;
 
@@ -50,7 +50,17 @@ fn main() -> ExitCode {
         }
         Command::View(options) => view(options),
     });
-    acuity_cli::exit::report(result)
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", acuity_lab::error::error_line(&e));
+            ExitCode::from(if acuity_lab::blame::blames_input(&e) {
+                2
+            } else {
+                1
+            })
+        }
+    }
 }
 
 /// Loads the scene and its world, opens the window and plays until quit.
