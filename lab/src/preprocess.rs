@@ -113,7 +113,7 @@ pub struct PreprocessArgs {
     #[cfg_attr(feature = "clap", arg(long))]
     pub force: bool,
     /// Also write each object's analysed LOD chain beside its profile:
-    /// NAME.lods.glb (every LOD) and NAME_lod<k>.obj (+ NAME.mtl, and
+    /// NAME.lods.glb (every LOD) and `NAME_lod<k>.obj` (+ NAME.mtl, and
     /// NAME_basecolor.png when textured); the profile records each file's
     /// hash.
     #[cfg_attr(feature = "clap", arg(long))]

@@ -40,7 +40,7 @@ pub struct AnalysisSettings {
     /// Number of Feret directions K, 4..=360 (default 8).
     pub feret_directions: u32,
     /// MSAA samples, 4 (default), 1 (none) or what the adapter supports;
-    /// must match the [`Renderer`]'s.
+    /// must match the [`crate::Renderer`]'s.
     pub msaa_samples: u32,
     /// How a feature's extents become one length (default thickness).
     pub statistic: FrequencyStatistic,

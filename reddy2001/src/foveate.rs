@@ -314,9 +314,9 @@ const REDUCE: [f32; 6] = [
 const REDUCE_VARIANCE: f32 = 1.25;
 
 /// A Gaussian pyramid at half-octave spacing: octave 0 is the image;
-/// octave `l + 1` is octave `l` filtered with [`REDUCE`] and halved in each
+/// octave `l + 1` is octave `l` filtered with `REDUCE` and halved in each
 /// dimension (edges clamped), down to a single pixel; beside each octave,
-/// the octave filtered with [`SMOOTH`] at its own resolution. Read back at
+/// the octave filtered with `SMOOTH` at its own resolution. Read back at
 /// full resolution by bilinear interpolation, octave `l` has a blur of
 /// variance `1.25 (4^l - 1) / 3` (the reductions) `+ 4^l / 6` (the
 /// bilinear tent; none at `l = 0`) full-resolution pixels^2, its smoothed
