@@ -15,12 +15,12 @@
 
 mod common;
 
+use acuity::glam::{DVec3, Quat};
 use acuity::{
     Camera, CostModel, Display, FrameInput, Gaze, ObjectDesc, PredictiveScheduler,
     ReactiveSettings, Selector, SelectorSettings, Tracker,
 };
 use common::demo_profile;
-use glam::{DVec3, Quat};
 
 /// The simulated renderer: the time a frame of `triangles` takes, s.
 fn draw(frame: u32, triangles: u64) -> f32 {
@@ -32,7 +32,17 @@ fn draw(frame: u32, triangles: u64) -> f32 {
     1e-3 + per_triangle_s * triangles as f32
 }
 
-fn main() -> Result<(), acuity::Error> {
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), acuity::Error> {
     let target_frame_s = 1.0 / 90.0;
     let display = Display::new([1920, 1080], [90.0, 58.7])?;
     let mut selector = Selector::new(display, SelectorSettings::default());

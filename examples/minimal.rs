@@ -7,13 +7,23 @@
 
 mod common;
 
+use acuity::glam::{DVec3, Quat};
 use acuity::{
     Camera, Display, FrameInput, Gaze, ObjectDesc, Profile, Selector, SelectorSettings, Tracker,
 };
 use common::demo_profile;
-use glam::{DVec3, Quat};
 
-fn main() -> Result<(), acuity::Error> {
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), acuity::Error> {
     // ANCHOR: setup
     let profile = match std::env::args().nth(1) {
         Some(path) => Profile::load(path)?, // from `acuity preprocess`
@@ -30,7 +40,7 @@ fn main() -> Result<(), acuity::Error> {
     let rock = selector.add_profile(&profile)?;
     let hero = selector.add_object(ObjectDesc {
         center: DVec3::new(0.0, 0.0, -20.0), // world units, f64
-        radius: 0.5,                         // bounding sphere
+        radius: 0.5,                         // profile.bounding_radius x scale
         rotation: Quat::IDENTITY,            // object frame -> world
         profile: rock,
     })?;

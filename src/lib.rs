@@ -5,7 +5,7 @@
 //! object's angular size, its retinal velocity and its eccentricity from
 //! the gaze (Reddy 1998, 2001), judged against a contrast sensitivity
 //! function. The offline pass (crate `acuity-preprocess`, driven by the
-//! `acuity` tool of crate `acuity-cli`) measures the features each LOD
+//! `acuity` tool, crates `acuity-lab` and `acuity-cli`) measures the features each LOD
 //! transition removes (their spatial frequency and contrast, at a ladder
 //! of on-screen sizes) and stores them in a [`Profile`]; this crate reads
 //! profiles and selects.
@@ -24,9 +24,9 @@
 //! rayon), `simd-dispatch` (the selection loop in the widest vector
 //! instructions the CPU has, detected at run time, through pulp; results
 //! are bit-identical without it; on by default). With none of them the
-//! runtime needs glam, serde and thiserror alone. The command-line tool
-//! and the offline pass are the crates `acuity-cli` and
-//! `acuity-preprocess`.
+//! runtime needs glam (re-exported as [`glam`]), serde and thiserror
+//! alone. The offline pass, the evaluation lab and the command-line tool
+//! are the crates `acuity-preprocess`, `acuity-lab` and `acuity-cli`.
 
 #![forbid(unsafe_code)]
 
@@ -56,6 +56,49 @@ pub use crate::select::{
     SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,
 };
 pub use crate::stereo::{Eye, StereoRig};
+
+/// The glam the runtime's API takes (0.34: `DVec3` positions, `Quat`
+/// rotations). Use it as `acuity::glam` (or through [`prelude`]) so that a
+/// different glam version elsewhere in a program cannot give "expected
+/// `DVec3`, found `DVec3`".
+pub use glam;
+
+/// What embedding needs, in one import.
+///
+/// ```
+/// use acuity::prelude::*;
+///
+/// let mut selector = Selector::new(
+///     Display::new([1920, 1080], [90.0, 58.7])?,
+///     SelectorSettings::default(),
+/// );
+/// # let profile = acuity::profile_for_docs();
+/// let id = selector.add_profile(&profile)?; // Profile::load(path)?
+/// let rock = selector.add_object(ObjectDesc {
+///     center: DVec3::new(0.0, 0.0, -10.0),
+///     radius: 0.5,
+///     rotation: Quat::IDENTITY,
+///     profile: id,
+/// })?;
+/// selector.select(&FrameInput {
+///     camera: Camera {
+///         position: DVec3::ZERO,
+///         orientation: Quat::IDENTITY,
+///     },
+///     gaze: Gaze::screen_centre(Tracker::None),
+///     dt_s: 1.0 / 60.0,
+///     scale: 1.0,
+/// })?;
+/// assert!(selector.selection(rock).lod().is_some());
+/// # Ok::<(), acuity::Error>(())
+/// ```
+pub mod prelude {
+    pub use crate::glam::{DQuat, DVec3, Quat, Vec3};
+    pub use crate::{
+        BudgetRule, Camera, Display, Error, FrameInput, Gaze, ObjectDesc, ObjectId, Profile,
+        ProfileId, Result, Selection, Selector, SelectorSettings, Tracker,
+    };
+}
 
 /// A small valid profile for documentation examples.
 #[doc(hidden)]

@@ -367,9 +367,15 @@ pub enum BudgetRule {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObjectDesc {
     /// Centre of the bounding sphere, world units; each coordinate within
-    /// `±MAX_WORLD_COORDINATE`.
+    /// `±MAX_WORLD_COORDINATE`. For an instance of a profiled mesh: the
+    /// mesh's bounding-sphere centre (the analysis camera's target) placed
+    /// by the instance's transform.
     pub center: DVec3,
-    /// Radius of the bounding sphere, world units, finite and `>= 0`.
+    /// Radius of the bounding sphere, world units, finite and `>= 0`. For
+    /// an instance of a profiled mesh drawn at uniform scale `k`:
+    /// `profile.bounding_radius * k` ([`crate::Profile::bounding_radius`]
+    /// is in the mesh's own units). A larger radius makes the object look
+    /// bigger to the model and keep more detail; a smaller one, less.
     pub radius: f32,
     /// Rotation from the object's frame (the profile's) to the world.
     pub rotation: Quat,
