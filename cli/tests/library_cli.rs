@@ -145,4 +145,17 @@ fn the_union_of_shards_is_the_unsharded_run_byte_for_byte() {
     let o = preprocess(&[m, "--out", sharded.to_str().unwrap(), "--check"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stdout).contains("ball: stale profile"));
+    // A truncated profile is named corrupt, with what to run, and the
+    // check writes nothing and promises no analysis.
+    let pebble = sharded.join("rocks_pebble.acp");
+    let bytes = std::fs::read(&pebble).unwrap();
+    std::fs::write(&pebble, &bytes[..40]).unwrap();
+    let o = preprocess(&[m, "--out", sharded.to_str().unwrap(), "--check"]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("rocks/pebble: profile"), "{text}");
+    assert!(text.contains("is corrupt"), "{text}");
+    assert!(text.contains("`acuity preprocess` without --check"), "{text}");
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("analysing"));
+    assert_eq!(std::fs::read(&pebble).unwrap().len(), 40);
 }

@@ -19,6 +19,9 @@ use std::path::{Path, PathBuf};
 
 use acuity_preprocess::pipeline::ObjectSource;
 
+use crate::profiles::CacheState;
+use crate::scene::is_mesh_path;
+
 /// One object to preprocess.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Job {
@@ -68,15 +71,6 @@ pub fn parse_shard(s: &str) -> Result<Shard, String> {
     Ok(Shard { k, n })
 }
 
-/// Whether a path names a mesh file the offline pass reads.
-fn is_mesh(path: &Path) -> bool {
-    path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
-        ["obj", "gltf", "glb"]
-            .iter()
-            .any(|m| e.eq_ignore_ascii_case(m))
-    })
-}
-
 /// `path` relative to its base without the extension, `/`-separated: an
 /// asset's name.
 fn asset_name(relative: &Path) -> String {
@@ -104,7 +98,7 @@ pub fn folder_assets(dir: &Path) -> Result<Vec<(String, PathBuf)>, String> {
                 if !hidden {
                     stack.push(path);
                 }
-            } else if is_mesh(&path) {
+            } else if is_mesh_path(&path) {
                 files.push(path);
             }
         }
@@ -128,7 +122,7 @@ pub fn manifest_assets(manifest: &Path) -> Result<Vec<(String, PathBuf)>, String
         if entry.is_empty() {
             continue;
         }
-        if !is_mesh(Path::new(entry)) {
+        if !is_mesh_path(Path::new(entry)) {
             return Err(format!(
                 "{}:{}: `{entry}` is not a mesh file (.obj, .gltf, .glb)",
                 manifest.display(),
@@ -156,17 +150,25 @@ pub fn check_profiles(
     for j in jobs {
         let path = crate::profiles::cache_path(out_dir, &j.source);
         expected.insert(path.clone());
-        match crate::profiles::cached_profile(&j.source, settings, out_dir) {
-            Ok(Some(_)) => {}
-            Ok(None) if path.is_file() => {
+        match crate::profiles::cache_state(&j.source, settings, out_dir) {
+            Ok(CacheState::Fresh(_)) => {}
+            Ok(CacheState::Stale) => {
                 bad += 1;
                 println!(
-                    "{}: stale profile {} (inputs or settings changed)",
+                    "{}: stale profile {} (inputs or settings changed); `acuity preprocess` without --check analyses it again",
                     j.name,
                     path.display()
                 );
             }
-            Ok(None) => {
+            Ok(CacheState::Unusable(why)) => {
+                bad += 1;
+                println!(
+                    "{}: profile {} {why}; `acuity preprocess` without --check replaces it",
+                    j.name,
+                    path.display()
+                );
+            }
+            Ok(CacheState::Missing) => {
                 bad += 1;
                 println!("{}: no profile ({} missing)", j.name, path.display());
             }

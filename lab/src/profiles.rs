@@ -110,31 +110,37 @@ pub fn check_distinct_cache_paths<'a>(
     Ok(())
 }
 
-/// The cached profile of an object, when `cache_dir` holds one whose
-/// recorded input hashes (files, generation parameters, settings) and
-/// settings equal the current ones; `None` when there is none, it is
-/// unusable, or anything changed. An unusable one (corrupt, of an older or
-/// newer format, not a regular file) is reported on stderr as a warning
-/// line, since it will be replaced. Hashing reads the inputs (an unreadable
-/// input file is an error) but renders nothing.
-pub fn cached_profile(
+/// What the profile cache holds for an object.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CacheState {
+    /// A profile whose recorded input hashes and settings equal the
+    /// current ones.
+    Fresh(Profile),
+    /// No profile file.
+    Missing,
+    /// A readable profile of other inputs or settings.
+    Stale,
+    /// A file that is no usable profile (corrupt, of an older or newer
+    /// format, not a regular file); why.
+    Unusable(String),
+}
+
+/// What `cache_dir` holds for `object` under `settings`. Hashing reads the
+/// inputs (an unreadable input file is an error) but renders nothing.
+pub fn cache_state(
     object: &ObjectSource,
     settings: &AnalysisSettings,
     cache_dir: &Path,
-) -> anyhow::Result<Option<Profile>> {
+) -> anyhow::Result<CacheState> {
     let hashes = pipeline::input_hashes(object, settings)?;
     let path = cache_path(cache_dir, object);
     let cached = match Profile::load(&path) {
         Ok(p) => p,
         Err(e) => {
-            if let Some(why) = unusable(&e, &path) {
-                eprintln!(
-                    "warning: {}: cached profile {why}; analysing `{}` again to replace it",
-                    path.display(),
-                    object.name()
-                );
-            }
-            return Ok(None);
+            return Ok(match unusable(&e, &path) {
+                Some(why) => CacheState::Unusable(why),
+                None => CacheState::Missing,
+            });
         }
     };
     let inputs: Vec<&InputHash> = cached
@@ -147,7 +153,36 @@ pub fn cached_profile(
             .iter()
             .zip(&hashes)
             .all(|(a, b)| a.what == b.what && a.hash_hex == b.hash_hex);
-    Ok((same && cached.settings == settings_record(settings)).then_some(cached))
+    Ok(if same && cached.settings == settings_record(settings) {
+        CacheState::Fresh(cached)
+    } else {
+        CacheState::Stale
+    })
+}
+
+/// The cached profile of an object, when `cache_dir` holds one whose
+/// recorded input hashes (files, generation parameters, settings) and
+/// settings equal the current ones ([`cache_state`]); `None` when there is
+/// none, it is unusable, or anything changed. An unusable one is reported
+/// on stderr as a warning line, since the caller analyses the object again
+/// and replaces it.
+pub fn cached_profile(
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+    cache_dir: &Path,
+) -> anyhow::Result<Option<Profile>> {
+    match cache_state(object, settings, cache_dir)? {
+        CacheState::Fresh(p) => Ok(Some(p)),
+        CacheState::Unusable(why) => {
+            eprintln!(
+                "warning: {}: cached profile {why}; analysing `{}` again to replace it",
+                cache_path(cache_dir, object).display(),
+                object.name()
+            );
+            Ok(None)
+        }
+        CacheState::Missing | CacheState::Stale => Ok(None),
+    }
 }
 
 /// Why the cached profile at `path`, which failed to load with `e`, is

@@ -520,3 +520,41 @@ fn the_viewers_object_is_read_without_an_eye_tracker_only() {
         assert!(err.contains(field), "{field}: {err}");
     }
 }
+
+#[test]
+fn a_missing_top_level_table_is_named_as_a_table() {
+    for (missing, text) in [
+        (
+            "camera",
+            MINIMAL_SCENE.split("[camera]").next().unwrap().to_string(),
+        ),
+        (
+            "display",
+            MINIMAL_SCENE.replace(
+                "[display]\nresolution = [640, 480]\nfov_deg = [43.6, 33.4]\n",
+                "",
+            ),
+        ),
+    ] {
+        let e = Scene::parse(&text, "s.toml").unwrap_err();
+        let message = e.to_string();
+        assert!(
+            message.contains(&format!("the scene has no `[{missing}]` table")),
+            "{message}"
+        );
+        assert_eq!(e.field(), Some(missing), "{message}");
+    }
+}
+
+#[test]
+fn a_mesh_given_as_a_scene_says_how_to_analyse_it() {
+    for name in ["mesh.obj", "chain.GLB", "a.gltf"] {
+        let e = Scene::load(name).unwrap_err();
+        assert!(matches!(e, SceneError::NotAScene { .. }), "{e}");
+        let message = e.to_string();
+        assert!(
+            message.contains(&format!("acuity preprocess {name}")),
+            "{message}"
+        );
+    }
+}

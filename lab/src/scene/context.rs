@@ -77,6 +77,30 @@ impl<'t> Ctx<'t> {
             .as_ref()
             .map(|s| field_at(self.doc.get_ref(), s.start))
             .unwrap_or_default();
+        // The parser places a missing top-level key at the document: an
+        // empty span at its start, or one over all of it.
+        let whole_document = span
+            .as_ref()
+            .is_none_or(|s| s.start == 0 && (s.end == 0 || s.end >= self.text.trim_end().len()));
+        if let (Some(missing), true) = (
+            backticked_after(&message, "missing field `"),
+            whole_document,
+        ) {
+            // A top-level key is missing: name its table, not the first
+            // table of the file.
+            let table = if missing == "objects" {
+                "[[objects]]".to_string()
+            } else {
+                format!("[{missing}]")
+            };
+            return SceneError::Format {
+                path: self.path.clone(),
+                line: 1,
+                column: 1,
+                field: Some(missing.to_string()),
+                message: format!("the scene has no `{table}` table (docs/scene-format.md)"),
+            };
+        }
         if let Some(missing) = backticked_after(&message, "missing field `") {
             if field.is_empty() {
                 field = missing.to_string();

@@ -33,6 +33,18 @@ pub enum SceneError {
         /// What the parser expected or found.
         message: String,
     },
+    /// The file is a mesh (OBJ or glTF), not a scene: the commands that play
+    /// scenes say so and how to analyse or play the mesh.
+    #[error(
+        "{}: a mesh, not a scene file: analyse it with `acuity preprocess {}`, \
+         or play it by naming it in a scene's `[[objects]]` (`mesh = \"{}\"`; \
+         the scene format: docs/scene-format.md)",
+        path.display(), path.display(), path.display()
+    )]
+    NotAScene {
+        /// The mesh file given as a scene.
+        path: PathBuf,
+    },
     /// The file parses but a value breaks a rule of the format.
     #[error("{}:{line}:{column}: invalid `{field}`: {reason}", path.display())]
     Invalid {
@@ -59,6 +71,7 @@ impl SceneError {
     pub fn path(&self) -> &Path {
         match self {
             SceneError::Io { path, .. }
+            | SceneError::NotAScene { path }
             | SceneError::Format { path, .. }
             | SceneError::Invalid { path, .. } => path,
         }
@@ -67,7 +80,7 @@ impl SceneError {
     /// The line (1-based), when known.
     pub fn line(&self) -> Option<usize> {
         match self {
-            SceneError::Io { .. } => None,
+            SceneError::Io { .. } | SceneError::NotAScene { .. } => None,
             SceneError::Format { line, .. } | SceneError::Invalid { line, .. } => Some(*line),
         }
     }
@@ -75,7 +88,7 @@ impl SceneError {
     /// The column (1-based, in characters), when known.
     pub fn column(&self) -> Option<usize> {
         match self {
-            SceneError::Io { .. } => None,
+            SceneError::Io { .. } | SceneError::NotAScene { .. } => None,
             SceneError::Format { column, .. } | SceneError::Invalid { column, .. } => Some(*column),
         }
     }
@@ -83,7 +96,7 @@ impl SceneError {
     /// The field path, when known.
     pub fn field(&self) -> Option<&str> {
         match self {
-            SceneError::Io { .. } => None,
+            SceneError::Io { .. } | SceneError::NotAScene { .. } => None,
             SceneError::Format { field, .. } => field.as_deref(),
             SceneError::Invalid { field, .. } => Some(field),
         }

@@ -89,7 +89,7 @@
     reason = "`!(x > 0.0)` is deliberate: it is also true for NaN"
 )]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use acuity_preprocess::{AnalysisSettings, FrequencyStatistic};
 use serde::Deserialize;
@@ -535,6 +535,16 @@ impl Policy {
             Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
         }
     }
+}
+
+/// Whether a path names a mesh file the offline pass reads (`.obj`,
+/// `.gltf`, `.glb`, any case) rather than a scene.
+pub fn is_mesh_path(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["obj", "gltf", "glb"]
+            .iter()
+            .any(|m| e.eq_ignore_ascii_case(m))
+    })
 }
 
 /// Checks a cross-fade length, seconds ([`RunSpec::cross_fade_s`]).

@@ -17,9 +17,15 @@ use super::{MeshSource, Scene, SceneError};
 
 impl Scene {
     /// Reads, parses and validates a scene file, and checks that every mesh
-    /// file it names exists.
+    /// file it names exists. A mesh file (`.obj`, `.gltf`, `.glb`) is
+    /// refused as [`SceneError::NotAScene`] before it is read.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
+        if super::is_mesh_path(path) {
+            return Err(SceneError::NotAScene {
+                path: path.to_path_buf(),
+            });
+        }
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
             path: path.to_path_buf(),
             source,
