@@ -155,7 +155,10 @@ fn the_union_of_shards_is_the_unsharded_run_byte_for_byte() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("rocks/pebble: profile"), "{text}");
     assert!(text.contains("is corrupt"), "{text}");
-    assert!(text.contains("`acuity preprocess` without --check"), "{text}");
+    assert!(
+        text.contains("`acuity preprocess` without --check"),
+        "{text}"
+    );
     assert!(!String::from_utf8_lossy(&o.stderr).contains("analysing"));
     assert_eq!(std::fs::read(&pebble).unwrap().len(), 40);
 }

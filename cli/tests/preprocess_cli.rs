@@ -436,3 +436,32 @@ fn bunny_critical_frequency_falls_from_finest_to_coarsest_transition() {
     // fraction: at least 75% of the viewpoints.
     assert!(falls * 4 >= n * 3, "only {falls}/{n}");
 }
+
+#[test]
+fn a_mesh_without_triangles_is_kept_whole_and_quartered() {
+    let dir = temp_dir("whole");
+    // 16 x 32 quads of a lumpy sphere: 960 triangles at least; LOD 0 must
+    // be all of them, whatever the count.
+    let obj = dir.join("lumpy.obj");
+    std::fs::write(&obj, lumpy_sphere_obj(16, 32, 5)).unwrap();
+    let o = acuity(&[&[s(&obj)][..], &FAST].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let p = Profile::load(dir.join(".acuity-cache/lumpy.acp")).unwrap();
+    let faces = lumpy_sphere_obj(16, 32, 5)
+        .lines()
+        .filter(|l| l.starts_with("f "))
+        .map(|l| l.split_whitespace().count() as u32 - 3)
+        .sum::<u32>();
+    assert_eq!(p.lod_triangles[0], faces, "{:?}", p.lod_triangles);
+    assert!(p.lod_count() >= 3, "{:?}", p.lod_triangles);
+    for w in p.lod_triangles.windows(2) {
+        // A quarter each, within the simplifier's tolerance.
+        let ratio = f64::from(w[0]) / f64::from(w[1]);
+        assert!((3.0..=5.5).contains(&ratio), "{:?}", p.lod_triangles);
+    }
+    // A target above the mesh's own count keeps the mesh and says so.
+    let o = acuity(&[&[s(&obj), "--triangles", "100000,500", "--force"][..], &FAST].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let text = format!("{}{}", stdout(&o), String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("fewer than the first target 100000"), "{text}");
+}

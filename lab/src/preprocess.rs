@@ -7,8 +7,11 @@
 //!   from the offline pass's generators (see [`crate::profiles::object_source`]). Or one
 //!   mesh file (`.obj`, `.gltf`, `.glb`): a glTF that carries an LOD chain
 //!   (`MSFT_lod`, or nodes named `*_LOD<n>`) is analysed as it is; otherwise
-//!   its LODs are generated at `--triangles` (default the paper's
-//!   3928/834/254/76). The object is named after the file stem.
+//!   its LODs are generated at `--triangles`, or without them the mesh is
+//!   kept whole: LOD 0 is the mesh as given, each coarser LOD a quarter of
+//!   the one before, down to 32 triangles, at most four LODs (a
+//!   5,120-triangle mesh: 5120/1280/320/80). The object is named after the
+//!   file stem.
 //! - **Cache.** Profiles go to `--out` (default `<dir of PATH>/.acuity-cache/`)
 //!   as `<object>.acp` ([`profiles::cache_path`]). An object whose input
 //!   files, generation parameters and settings hash as recorded in its
@@ -60,9 +63,10 @@ pub struct PreprocessArgs {
     /// is used), a folder of meshes or a manifest (.txt) listing them, one
     /// object each (an asset library).
     pub path: PathBuf,
-    /// LOD triangle targets for a single mesh file, finest first, strictly
-    /// decreasing [default: 3928,834,254,76; a glTF with its own chain:
-    /// that chain].
+    /// LOD triangle targets for mesh files, finest first, strictly
+    /// decreasing (Reddy 1998's chain: 3928,834,254,76) [default: the mesh
+    /// kept whole as LOD 0, then quarters of it down to 32 triangles, at
+    /// most 4 LODs; a glTF with its own chain: that chain].
     #[cfg_attr(
         feature = "clap",
         arg(long, value_delimiter = ',', value_name = "N,N,...")
@@ -223,29 +227,31 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
 
 /// The job of one mesh file: a glTF that carries an LOD chain is analysed
 /// as it is unless `triangles` asks for generated LODs; otherwise LODs are
-/// generated at `triangles` (default the paper's targets).
+/// generated at `triangles`, or, without them, the mesh is kept whole as
+/// LOD 0 with coarser LODs of a quarter of the triangles each
+/// ([`lods::whole_mesh_targets`]).
 fn mesh_job(name: String, path: &Path, triangles: Option<&[u32]>) -> Result<Job, PreprocessError> {
-    if triangles.is_none() && acuity_render::is_gltf(path) && gltf_carries_chain(path) {
-        return Ok(Job {
+    let source = match triangles {
+        None if acuity_render::is_gltf(path) && gltf_carries_chain(path) => ObjectSource::Files {
             name: name.clone(),
-            source: ObjectSource::Files {
-                name,
-                lod_paths: vec![path.to_owned()],
-            },
-        });
-    }
-    let targets = triangles.map_or_else(|| lods::PAPER_TRIANGLE_TARGETS.to_vec(), <[u32]>::to_vec);
-    if let Err(e) = lods::check_targets(&targets) {
-        return Err(PreprocessError::Usage(format!("--triangles: {e}")));
-    }
-    Ok(Job {
-        name: name.clone(),
-        source: ObjectSource::Generated {
-            name,
-            path: path.to_owned(),
-            triangle_targets: targets,
+            lod_paths: vec![path.to_owned()],
         },
-    })
+        None => ObjectSource::Whole {
+            name: name.clone(),
+            path: path.to_owned(),
+        },
+        Some(targets) => {
+            if let Err(e) = lods::check_targets(targets) {
+                return Err(PreprocessError::Usage(format!("--triangles: {e}")));
+            }
+            ObjectSource::Generated {
+                name: name.clone(),
+                path: path.to_owned(),
+                triangle_targets: targets.to_vec(),
+            }
+        }
+    };
+    Ok(Job { name, source })
 }
 
 /// Whether a glTF file carries an LOD chain of two or more levels. A file

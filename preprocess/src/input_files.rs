@@ -125,6 +125,18 @@ pub fn input_hashes(
             crate::input_files::hash_mesh_file(path, &mut out)?;
             out.push(generation(triangle_targets));
         }
+        ObjectSource::Whole { path, .. } => {
+            crate::input_files::hash_mesh_file(path, &mut out)?;
+            out.push(InputHash {
+                what: "lod-generation".into(),
+                hash_hex: hash_str(&format!(
+                    "meshopt-simplify whole mesh, then 1/{} down to {} triangles, at most {} LODs",
+                    lods::WHOLE_MESH_STEP,
+                    lods::WHOLE_MESH_FLOOR_TRIANGLES,
+                    lods::WHOLE_MESH_MAX_LODS
+                )),
+            });
+        }
         ObjectSource::Procedural {
             params,
             triangle_targets,

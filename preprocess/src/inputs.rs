@@ -189,6 +189,15 @@ pub enum ObjectSource {
         /// Triangle targets, finest first, strictly decreasing.
         triangle_targets: Vec<u32>,
     },
+    /// A mesh file kept whole: LOD 0 is the mesh as given and each coarser
+    /// LOD is simplified from it to a fraction of its triangles
+    /// ([`lods::whole_mesh_targets`]: quarters down to a floor).
+    Whole {
+        /// Object name.
+        name: String,
+        /// The mesh file.
+        path: PathBuf,
+    },
     /// The procedural test object ([`lods::procedural_object`]) simplified to
     /// each triangle target.
     Procedural {
@@ -217,6 +226,7 @@ impl ObjectSource {
         match self {
             Self::Files { name, .. }
             | Self::Generated { name, .. }
+            | Self::Whole { name, .. }
             | Self::Procedural { name, .. }
             | Self::Shape { name, .. } => name,
         }
@@ -231,11 +241,24 @@ impl ObjectSource {
                 path,
                 triangle_targets,
             } => {
-                let (mesh, warnings) = lods::load_finest(path)?;
+                let (mesh, mut warnings) = lods::load_finest(path)?;
+                let first = triangle_targets.first().copied().unwrap_or(0);
+                if (mesh.triangle_count() as u64) < u64::from(first) {
+                    warnings.push(format!(
+                        "{}: {} triangles, fewer than the first target {first}: LOD 0 is the mesh as given",
+                        path.display(),
+                        mesh.triangle_count()
+                    ));
+                }
                 Ok((
                     lods::generate_lods(name, &mesh, triangle_targets)?,
                     warnings,
                 ))
+            }
+            Self::Whole { name, path } => {
+                let (mesh, warnings) = lods::load_finest(path)?;
+                let targets = lods::whole_mesh_targets(mesh.triangle_count() as u64);
+                Ok((lods::generate_lods(name, &mesh, &targets)?, warnings))
             }
             Self::Procedural {
                 name,

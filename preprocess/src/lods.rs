@@ -344,6 +344,33 @@ pub fn procedural_object(params: ProceduralParams) -> Mesh {
 /// The paper's test object LOD triangle counts (Reddy 1998 §5).
 pub const PAPER_TRIANGLE_TARGETS: [u32; 4] = [3928, 834, 254, 76];
 
+/// Each coarser LOD of a mesh kept whole has this share of the previous
+/// one's triangles (a quarter: about the steps of the paper's chain,
+/// 3928/834/254/76, whose ratios are 3.3 to 4.7).
+pub const WHOLE_MESH_STEP: u64 = 4;
+
+/// No LOD of a mesh kept whole goes below this many triangles.
+pub const WHOLE_MESH_FLOOR_TRIANGLES: u64 = 32;
+
+/// LODs in a mesh kept whole, at most (the paper's chain has four).
+pub const WHOLE_MESH_MAX_LODS: usize = 4;
+
+/// The triangle targets of a mesh of `triangles` kept whole: the mesh's
+/// own count, then a quarter of the previous target
+/// ([`WHOLE_MESH_STEP`]) while it stays at or above
+/// [`WHOLE_MESH_FLOOR_TRIANGLES`], at most [`WHOLE_MESH_MAX_LODS`]
+/// levels. A mesh of fewer than four times the floor is one LOD; counts
+/// above `u32::MAX` are clamped.
+pub fn whole_mesh_targets(triangles: u64) -> Vec<u32> {
+    let first = triangles.clamp(1, u64::from(u32::MAX));
+    std::iter::successors(Some(first), |&t| Some(t / WHOLE_MESH_STEP))
+        .enumerate()
+        .take_while(|&(k, t)| k == 0 || t >= WHOLE_MESH_FLOOR_TRIANGLES)
+        .take(WHOLE_MESH_MAX_LODS)
+        .map(|(_, t)| t as u32)
+        .collect()
+}
+
 /// A short description of the procedural parameters, used in input hashes
 /// and as the pseudo-path in messages.
 pub fn procedural_description(params: ProceduralParams) -> PathBuf {
@@ -356,6 +383,23 @@ pub fn procedural_description(params: ProceduralParams) -> PathBuf {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_whole_mesh_is_lod_0_then_quarters_down_to_the_floor() {
+        use super::whole_mesh_targets as t;
+        assert_eq!(t(5120), [5120, 1280, 320, 80]);
+        assert_eq!(t(100_000), [100_000, 25_000, 6250, 1562]);
+        assert_eq!(t(3928), [3928, 982, 245, 61]);
+        assert_eq!(t(128), [128, 32]);
+        assert_eq!(t(127), [127]);
+        assert_eq!(t(1), [1]);
+        assert_eq!(t(0), [1]);
+        assert_eq!(t(u64::MAX)[0], u32::MAX);
+        for n in [1u64, 31, 32, 200, 4097, 1 << 40] {
+            let targets = t(n);
+            assert!(super::check_targets(&targets).is_ok(), "{n}: {targets:?}");
+        }
+    }
+
     use super::*;
 
     #[test]
