@@ -460,8 +460,17 @@ fn a_mesh_without_triangles_is_kept_whole_and_quartered() {
         assert!((3.0..=5.5).contains(&ratio), "{:?}", p.lod_triangles);
     }
     // A target above the mesh's own count keeps the mesh and says so.
-    let o = acuity(&[&[s(&obj), "--triangles", "100000,500", "--force"][..], &FAST].concat());
+    let o = acuity(
+        &[
+            &[s(&obj), "--triangles", "100000,500", "--force"][..],
+            &FAST,
+        ]
+        .concat(),
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
     let text = format!("{}{}", stdout(&o), String::from_utf8_lossy(&o.stderr));
-    assert!(text.contains("fewer than the first target 100000"), "{text}");
+    assert!(
+        text.contains("fewer than the first target 100000"),
+        "{text}"
+    );
 }
