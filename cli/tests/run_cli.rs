@@ -28,6 +28,10 @@ fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
     assert!(o.status.success(), "stderr: {stderr}");
     let table = String::from_utf8_lossy(&o.stdout);
     assert!(table.contains("acuity_all"), "{table}");
+    // Under the table, what its columns mean and where the fair
+    // comparison lives.
+    assert!(table.contains("tri x: full detail's"), "{table}");
+    assert!(table.contains("experiment error --metric fvvdp"), "{table}");
     for f in [
         "frames.csv",
         "summary.csv",

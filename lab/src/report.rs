@@ -148,6 +148,28 @@ pub fn attach_jod(summaries: &mut [Summary], scores: &BTreeMap<String, f64>) -> 
     Ok(())
 }
 
+/// What the columns of [`format_table`] mean, a few lines for under the
+/// table; the JOD line only when the table has a JOD column.
+pub fn table_legend(with_jod: bool) -> String {
+    let mut t = String::from(
+        "mean/p95 ms: frame time; tris/frm, draws: triangles and draw calls a frame;\n\
+         speedup, tri x: full detail's frame time and triangles over the policy's (above 1: faster, fewer);\n\
+         LOD: mean LOD drawn (0 = finest); sw/s, rev/s: LOD switches a second, and switches back within 0.25 s;\n\
+         FLIP: error against full detail on sampled frames (0 = identical; foveal, so savings away from the gaze count);\n\
+         over%: frames over the frame-rate budget; s: mean scale factor of acuity policies (1 = imperceptible).\n",
+    );
+    if with_jod {
+        t.push_str(
+            "JOD: FovVideoVDP quality of the sequence, foveated at the gaze (10 = indistinguishable from full detail).\n",
+        );
+    }
+    t.push_str(
+        "Policies sit at different errors: compare triangles at equal JOD with \
+         `acuity experiment error --metric fvvdp` (docs/perception.md).\n",
+    );
+    t
+}
+
 /// The summary as a text table; a JOD column when any summary has one.
 pub fn format_table(summaries: &[Summary]) -> String {
     let with_jod = summaries.iter().any(|s| s.jod.is_some());

@@ -79,9 +79,15 @@ pub struct RunOutcome {
 }
 
 impl RunOutcome {
-    /// The table `acuity run` prints: one line per policy.
+    /// The table `acuity run` prints: one line per policy, then what its
+    /// columns mean ([`crate::report::table_legend`]).
     pub fn table(&self) -> String {
-        format_table(&self.summaries)
+        let with_jod = self.summaries.iter().any(|s| s.jod.is_some());
+        format!(
+            "{}\n{}",
+            format_table(&self.summaries),
+            crate::report::table_legend(with_jod)
+        )
     }
 }
 
