@@ -474,3 +474,53 @@ fn a_mesh_without_triangles_is_kept_whole_and_quartered() {
         "{text}"
     );
 }
+
+#[test]
+fn the_cache_hits_from_any_folder_spelling_and_checkout() {
+    let dir = temp_dir("spelling");
+    let checkout = dir.join("checkout");
+    let sub = checkout.join("scenes");
+    std::fs::create_dir_all(&sub).unwrap();
+    std::fs::write(sub.join("ball.obj"), lumpy_sphere_obj(12, 24, 9)).unwrap();
+    std::fs::write(
+        sub.join("s.toml"),
+        "[display]\nresolution = [160, 120]\nfov_deg = [43.6, 33.4]\n\n\
+         [[objects]]\nname = \"ball\"\nmesh = \"ball.obj\"\ngenerate_triangles = [400, 100]\n\n\
+         [camera]\nduration_s = 1.0\nforward_speed_m_per_s = 1.0\n",
+    )
+    .unwrap();
+    let link = dir.join("elsewhere");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&checkout, &link).unwrap();
+    let run = |cwd: &Path, scene: &str, extra: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_acuity"))
+            .current_dir(cwd)
+            .args([&["preprocess", scene][..], &FAST, extra].concat())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        stdout(&o)
+    };
+    assert!(run(&checkout, "scenes/s.toml", &[]).contains("analysed"));
+    let absolute = sub.join("s.toml");
+    for (cwd, scene) in [
+        (checkout.clone(), "scenes/s.toml"),
+        (sub.clone(), "s.toml"),
+        (dir.clone(), absolute.to_str().unwrap()),
+        (link.clone(), "scenes/s.toml"),
+        (link.join("scenes"), "./s.toml"),
+    ] {
+        let text = run(&cwd, scene, &[]);
+        assert!(
+            text.contains("cached"),
+            "{} from {}: {text}",
+            scene,
+            cwd.display()
+        );
+        let text = run(&cwd, scene, &["--check"]);
+        assert!(
+            text.contains("1 of 1 objects have an up-to-date profile"),
+            "{text}"
+        );
+    }
+}

@@ -125,8 +125,11 @@ pub enum CacheState {
     Unusable(String),
 }
 
-/// What `cache_dir` holds for `object` under `settings`. Hashing reads the
-/// inputs (an unreadable input file is an error) but renders nothing.
+/// What `cache_dir` holds for `object` under `settings`: a profile is
+/// fresh when the content hashes of its inputs (files, generation
+/// parameters) and its settings equal the current ones, whatever the paths
+/// they were read from. Hashing reads the inputs (an unreadable input file
+/// is an error) but renders nothing.
 pub fn cache_state(
     object: &ObjectSource,
     settings: &AnalysisSettings,
@@ -148,11 +151,14 @@ pub fn cache_state(
         .iter()
         .filter(|h| !h.what.starts_with(EXPORTED_PREFIX))
         .collect();
+    // Contents, not names: the recorded `what` (a path as it was spelled,
+    // relative to wherever the command ran) is for humans, so the same
+    // bytes hit the same profile from any folder, spelling or checkout.
     let same = inputs.len() == hashes.len()
         && inputs
             .iter()
             .zip(&hashes)
-            .all(|(a, b)| a.what == b.what && a.hash_hex == b.hash_hex);
+            .all(|(a, b)| a.hash_hex == b.hash_hex);
     Ok(if same && cached.settings == settings_record(settings) {
         CacheState::Fresh(cached)
     } else {
