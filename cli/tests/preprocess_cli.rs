@@ -524,3 +524,85 @@ fn the_cache_hits_from_any_folder_spelling_and_checkout() {
         );
     }
 }
+
+#[test]
+fn a_scene_takes_a_ready_profile_and_shares_one_analysis() {
+    let dir = temp_dir("ready");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    std::fs::write(a.join("ball.obj"), lumpy_sphere_obj(12, 24, 9)).unwrap();
+    std::fs::write(b.join("other.obj"), lumpy_sphere_obj(12, 24, 4)).unwrap();
+    let head = "[display]\nresolution = [160, 120]\nfov_deg = [43.6, 33.4]\n\n";
+    let tail = "[camera]\nduration_s = 1.0\nforward_speed_m_per_s = 1.0\n\n\
+                [profiles]\nresolution = 128\nviewpoints = 0\n";
+    let scene = |folder: &Path, name: &str, objects: &str| {
+        let path = folder.join(name);
+        std::fs::write(&path, format!("{head}{objects}\n{tail}")).unwrap();
+        path
+    };
+    // A profile and its exported chain, made in one folder...
+    let made = scene(
+        &a,
+        "a.toml",
+        "[[objects]]\nname = \"ball\"\nmesh = \"ball.obj\"\ngenerate_triangles = [400, 100]\n",
+    );
+    let o = acuity(&[s(&made), "--export-lods"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // ...played from another, with nothing analysed there.
+    let ready = scene(
+        &b,
+        "b.toml",
+        "[[objects]]\nname = \"ball\"\nlods = [\"../a/.acuity-cache/ball.lods.glb\"]\n\
+         profile = \"../a/.acuity-cache/ball.acp\"\n",
+    );
+    let play = |scene: &Path| {
+        common::acuity_logged(&[
+            "run",
+            s(scene),
+            "--frames",
+            "2",
+            "--policies",
+            "full,acuity_all",
+            "--out",
+            s(&dir.join("out")),
+        ])
+    };
+    let o = play(&ready);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("profile given by the scene"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!b.join(".acuity-cache/ball.acp").exists());
+    // The profile of another mesh is refused, naming what differs.
+    let wrong = scene(
+        &b,
+        "wrong.toml",
+        "[[objects]]\nname = \"ball\"\nmesh = \"other.obj\"\ngenerate_triangles = [400, 100]\n\
+         profile = \"../a/.acuity-cache/ball.acp\"\n",
+    );
+    let o = play(&wrong);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a profile of other inputs"),
+        "{}",
+        stderr(&o)
+    );
+    // Two objects of one mesh and settings: one analysis.
+    let twins = scene(
+        &a,
+        "twins.toml",
+        "[[objects]]\nname = \"left\"\nmesh = \"ball.obj\"\ngenerate_triangles = [400, 100]\n\n\
+         [[objects]]\nname = \"right\"\nmesh = \"ball.obj\"\ngenerate_triangles = [400, 100]\n\
+         transform = { position = [1.0, 0.0, 0.0] }\n",
+    );
+    let o = play(&twins);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("object `right`: 2 LODs, profile shared"),
+        "{}",
+        stderr(&o)
+    );
+}

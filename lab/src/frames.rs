@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use acuity::display::projection_columns;
-use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
+use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions, input_hashes};
 use acuity_render::{
     DitherMask, Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
 };
@@ -22,7 +22,7 @@ use crate::crossfade::FadeOut;
 use crate::limits::check_scene_triangles;
 use crate::placement::Placement;
 use crate::profiles::object_source;
-use crate::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile};
+use crate::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile, given_profile};
 use crate::scene::{ProfileSpec, Scene};
 use acuity::{Camera, Display, Gaze, Profile, Tracker};
 
@@ -284,17 +284,43 @@ impl World {
             uploaded.push((meshes, lod_triangles, c));
         }
         let mut objects = Vec::with_capacity(scene.objects.len());
+        // Objects with the same inputs and settings (the same mesh under two
+        // names) share one analysis.
+        let mut analysed: Vec<(Vec<String>, Profile)> = Vec::new();
         for ((spec, source), (meshes, lod_triangles, c)) in
             scene.objects.iter().zip(&sources).zip(uploaded)
         {
-            let (profile, cache) = ensure_profile(
-                &renderer,
-                source,
-                &options.settings,
-                &cache_dir,
-                &RunOptions::default(),
-            )
-            .with_context(|| format!("object `{}`: making its profile", spec.name))?;
+            let what = || format!("object `{}`: making its profile", spec.name);
+            let key: Vec<String> = input_hashes(source, &options.settings)
+                .with_context(what)?
+                .into_iter()
+                .map(|h| h.hash_hex)
+                .collect();
+            let (profile, cache) = if let Some(path) = &spec.profile {
+                let profile = given_profile(source, path)
+                    .with_context(|| format!("object `{}`: its profile", spec.name))?;
+                (profile, CacheOutcome::Given)
+            } else if let Some((_, p)) = analysed.iter().find(|(k, _)| *k == key) {
+                (p.clone(), CacheOutcome::Shared)
+            } else {
+                ensure_profile(
+                    &renderer,
+                    source,
+                    &options.settings,
+                    &cache_dir,
+                    &RunOptions::default(),
+                )
+                .with_context(what)?
+            };
+            if profile.lod_triangles != lod_triangles {
+                return Err(crate::error::input_error(format!(
+                    "object `{}`: its profile is of LODs of {:?} triangles, its LODs have {lod_triangles:?}",
+                    spec.name, profile.lod_triangles
+                )));
+            }
+            if cache != CacheOutcome::Given {
+                analysed.push((key, profile.clone()));
+            }
             if options.verbose {
                 eprintln!(
                     "object `{}`: {} LOD{}, profile {}",
@@ -304,6 +330,8 @@ impl World {
                     match cache {
                         CacheOutcome::Cached => "cached",
                         CacheOutcome::Analysed => "analysed",
+                        CacheOutcome::Given => "given by the scene",
+                        CacheOutcome::Shared => "shared with an object of the same inputs",
                     }
                 );
             }

@@ -186,9 +186,19 @@ fn jobs_for(args: &PreprocessArgs) -> Result<(Vec<Job>, PathBuf, ProfileSpec), P
             // error, not the whole scene's.
             let scene =
                 Scene::parse(&text, path).map_err(|e| PreprocessError::Usage(e.to_string()))?;
+            for o in scene.objects.iter().filter(|o| o.profile.is_some()) {
+                if let Some(p) = &o.profile {
+                    println!(
+                        "{}: profile given by the scene ({}), not analysed",
+                        o.name,
+                        p.display()
+                    );
+                }
+            }
             let jobs = scene
                 .objects
                 .iter()
+                .filter(|o| o.profile.is_none())
                 .map(|o| Job {
                     name: o.name.clone(),
                     source: object_source(&o.name, &o.source),

@@ -21,6 +21,11 @@ pub enum CacheOutcome {
     Cached,
     /// The object was analysed (no cache, or an input or setting changed).
     Analysed,
+    /// The scene named a ready-made profile, made from the same inputs.
+    Given,
+    /// Another object of the scene with the same inputs and settings had
+    /// it: one analysis for both.
+    Shared,
 }
 
 /// The analysis settings as the profile records them.
@@ -254,6 +259,54 @@ pub fn ensure_profile(
     }
     let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
     Ok((profile, CacheOutcome::Analysed))
+}
+
+/// A ready-made profile of `object`'s LODs, read from `path`: its
+/// recorded input hashes (files, generation parameters; not the analysis
+/// settings, which it keeps as made) must equal the LODs' contents, or the
+/// LODs must be files its analysis exported (their contents recorded as
+/// `exported:` entries); otherwise the error (an input error) names the
+/// first input that differs.
+pub fn given_profile(object: &ObjectSource, path: &Path) -> anyhow::Result<Profile> {
+    let profile = Profile::load(path)?;
+    let current = pipeline::input_hashes(object, &AnalysisSettings::default())?;
+    // (what, content hash) of each input but the settings.
+    let lods: Vec<(&str, &str)> = current
+        .iter()
+        .filter(|h| h.what != "settings")
+        .map(|h| (h.what.as_str(), h.hash_hex.as_str()))
+        .collect();
+    let recorded: Vec<(&str, &str)> = profile
+        .inputs
+        .iter()
+        .filter(|h| h.what != "settings" && !h.what.starts_with(EXPORTED_PREFIX))
+        .map(|h| (h.what.as_str(), h.hash_hex.as_str()))
+        .collect();
+    // Or the LODs are files the profile's analysis exported
+    // (`--export-lods`): each of their contents is one it recorded.
+    let exported: Vec<&str> = profile
+        .inputs
+        .iter()
+        .filter(|h| h.what.starts_with(EXPORTED_PREFIX))
+        .map(|h| h.hash_hex.as_str())
+        .collect();
+    let is_export = !lods.is_empty() && lods.iter().all(|h| exported.contains(&h.1));
+    if let (false, Some(k)) = (
+        is_export,
+        (0..lods.len().max(recorded.len()))
+            .find(|&k| lods.get(k).map(|h| h.1) != recorded.get(k).map(|h| h.1)),
+    ) {
+        let name =
+            |h: Option<&(&str, &str)>| h.map_or("nothing".to_owned(), |h| format!("`{}`", h.0));
+        return Err(crate::error::input_error(format!(
+            "{}: a profile of other inputs than object `{}`'s LODs: it records {} where the LODs have {} (analyse them with `acuity preprocess`, or name the profile made from them)",
+            path.display(),
+            object.name(),
+            name(recorded.get(k)),
+            name(lods.get(k)),
+        )));
+    }
+    Ok(profile)
 }
 
 /// How a profile records a file `--export-lods` wrote: an entry of its

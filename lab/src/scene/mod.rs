@@ -329,6 +329,10 @@ pub struct ObjectSpec {
     pub name: String,
     /// Where its LODs come from.
     pub source: MeshSource,
+    /// A ready-made profile of these LODs (`profile = "file.acp"`, binary
+    /// or JSON, resolved against the scene file's folder), used instead of
+    /// the cache once its recorded input hashes match the LODs'.
+    pub profile: Option<PathBuf>,
     /// Where its instances stand.
     pub placement: PlacementSpec,
 }

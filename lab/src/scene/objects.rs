@@ -137,9 +137,15 @@ impl Ctx<'_> {
                 scale: 1.0,
             }),
         };
+        let profile = match o.profile {
+            Some(p) if p.trim().is_empty() => return Err(self.invalid(at("profile"), "empty path")),
+            Some(p) => Some(self.resolve(&p)),
+            None => None,
+        };
         Ok(ObjectSpec {
             name: o.name,
             source,
+            profile,
             placement,
         })
     }

@@ -60,6 +60,7 @@ pub(super) struct RawObject {
     pub(super) mesh: Option<String>,
     pub(super) generate_triangles: Option<Vec<u32>>,
     pub(super) procedural: Option<RawProcedural>,
+    pub(super) profile: Option<String>,
     pub(super) transform: Option<RawTransform>,
     pub(super) copies: Option<RawCopies>,
 }
