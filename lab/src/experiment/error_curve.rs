@@ -302,8 +302,9 @@ impl ErrorSweep {
         Self { rows, fvvdp }
     }
 
-    /// The table `acuity experiment error` prints: a header and one line
-    /// per row; the JOD columns only when FovVideoVDP scored the sweep.
+    /// The table `acuity experiment error` prints: a header, one line per
+    /// row and what the columns mean; the JOD columns only when FovVideoVDP
+    /// scored the sweep.
     pub fn table(&self) -> String {
         let mut out = String::new();
         let jod_head = if self.fvvdp {
@@ -354,6 +355,17 @@ impl ErrorSweep {
                 flip(s.flip_mean),
                 flip(s.flip_p95),
                 text(r.vs_screen_size_flip, &|r| format!("{r:.2}x"), "-")
+            );
+        }
+        out.push_str(
+            "\nknob: screen size's bias, acuity's scale factor s, or the budget's share of full detail's triangles;\n\
+             tris/frm: triangles a frame; LOD: mean LOD drawn (0 = finest); sw/s, rev/s: LOD switches a second, and back within 0.25 s;\n\
+             FLIP: mean error against full detail (0 = identical); vs screen: triangles over screen size's at the same FLIP (below 1: fewer).\n",
+        );
+        if self.fvvdp {
+            out.push_str(
+                "JOD: FovVideoVDP quality, foveated (10 = indistinguishable); vs scr JOD: triangles over screen size's at the same JOD;\n\
+                 JOD p99.9: the local 99.9th percentile (the worst small region).\n",
             );
         }
         out
