@@ -1,7 +1,12 @@
-//! Shared test fixtures: a seeded generator and synthetic profiles.
+//! Shared test fixtures: a seeded generator, synthetic profiles and
+//! scenes, and frames.
 #![allow(dead_code)]
 
 use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
+use acuity::{
+    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selection, Selector, SelectorSettings,
+    Tracker,
+};
 use glam::{DVec3, Quat, Vec3};
 use rand::{RngExt, SeedableRng};
 use rand_xorshift::XorShiftRng;
@@ -135,4 +140,58 @@ pub fn single_lod_profile() -> Profile {
         settings: Default::default(),
         inputs: vec![],
     }
+}
+
+/// A 1280x1024 desktop display of 53.1x41.1 degrees.
+pub fn display() -> Display {
+    Display::new([1280, 1024], [53.1, 41.1]).unwrap()
+}
+
+/// A frame at `position` looking along -Z, eyes at the screen's centre, s = 1.
+pub fn frame_at(position: DVec3, dt_s: f32) -> FrameInput {
+    FrameInput {
+        camera: Camera {
+            position,
+            orientation: Quat::IDENTITY,
+        },
+        gaze: Gaze::screen_centre(Tracker::None),
+        dt_s,
+        scale: 1.0,
+    }
+}
+
+/// A random scene in front of the camera: `n` objects within 5–200 units.
+pub fn random_scene(
+    settings: SelectorSettings,
+    n: usize,
+    seed: u64,
+    origin: DVec3,
+) -> (Selector, Vec<ObjectId>) {
+    let mut sel = Selector::new(display(), settings);
+    let p = sel.add_profile(&four_lod_profile(7)).unwrap();
+    let mut rng = Rng::new(seed);
+    let ids = (0..n)
+        .map(|_| {
+            let dir = Vec3::new(
+                rng.range(-0.6, 0.6) as f32,
+                rng.range(-0.5, 0.5) as f32,
+                -1.0,
+            )
+            .normalize();
+            let center = origin + dir.as_dvec3() * rng.range(5.0, 200.0);
+            sel.add_object(ObjectDesc {
+                center,
+                radius: rng.range(0.2, 3.0) as f32,
+                rotation: rng.rotation(),
+                profile: p,
+            })
+            .unwrap()
+        })
+        .collect();
+    (sel, ids)
+}
+
+/// Each object's selection.
+pub fn lods(sel: &Selector, ids: &[ObjectId]) -> Vec<Selection> {
+    ids.iter().map(|&id| sel.selection(id)).collect()
 }
