@@ -371,13 +371,17 @@ fn acuity_within(args: &[&str], limit_s: u64) -> std::process::Output {
 #[test]
 fn unusable_cached_profiles_are_replaced_with_a_warning_and_io_errors_print_once() {
     let dir = scratch("bad_cache");
+    // Four rocks of different inputs (alike ones would share one analysis).
     let objects = ["corrupt", "fifo", "device", "folder"]
-        .map(|name| {
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
             format!(
-                "[[objects]]\nname = \"{name}\"\nprocedural = {{ kind = \"rock\", triangles = [80, 20] }}\n"
+                "[[objects]]\nname = \"{name}\"\nprocedural = {{ kind = \"rock\", triangles = [{}, 20] }}\n",
+                80 + k
             )
         })
-        .concat();
+        .collect::<String>();
     let scene = TINY.replace(
         "[[objects]]\nname = \"rocks\"\nprocedural = { kind = \"rock\", triangles = [800, 200, 60] }\n\
          copies = { count = 12, seed = 3, volume_min = [-4.0, -1.0, -20.0], volume_max = [4.0, 1.0, -3.0], random_rotation = true, scale = 0.5 }\n",
