@@ -14,13 +14,7 @@ use acuity::{
 use common::demo_profile;
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    common::finish(run())
 }
 
 fn run() -> Result<(), acuity::Error> {

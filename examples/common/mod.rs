@@ -1,4 +1,5 @@
-//! What the examples share: a stand-in profile.
+//! What the examples share: a stand-in profile, and errors printed as a
+//! user reads them.
 
 use acuity::Profile;
 use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
@@ -29,5 +30,17 @@ pub fn demo_profile() -> Profile {
         transitions,
         settings: Default::default(),
         inputs: vec![],
+    }
+}
+
+/// Ends an example: its error (if any) printed on one line in its
+/// `Display` form, and the exit code.
+pub fn finish<E: std::fmt::Display>(result: Result<(), E>) -> std::process::ExitCode {
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
     }
 }
