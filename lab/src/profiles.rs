@@ -370,6 +370,10 @@ pub fn object_source(name: &str, source: &MeshSource) -> ObjectSource {
             path: mesh.clone(),
             triangle_targets: triangles.clone(),
         },
+        MeshSource::Whole { mesh } => ObjectSource::Whole {
+            name: name.into(),
+            path: mesh.clone(),
+        },
         MeshSource::Procedural { kind, triangles } => match kind {
             ProceduralKind::Rock => ObjectSource::Procedural {
                 name: name.into(),

@@ -80,7 +80,7 @@ fn shipped_scenes_load() {
         assert!(scene.run.frames > 0, "{name}");
         for o in &scene.objects {
             assert_eq!(o.placements().len(), o.placement.count(), "{name}");
-            assert!(o.source.n_lods() >= 1);
+            assert!(o.source.n_lods().is_none_or(|n| n >= 1));
         }
     }
 }
@@ -557,4 +557,20 @@ fn a_mesh_given_as_a_scene_says_how_to_analyse_it() {
             "{message}"
         );
     }
+}
+
+#[test]
+fn a_mesh_without_generate_triangles_is_kept_whole() {
+    let text = MINIMAL_SCENE.replace(
+        "procedural = { kind = \"sphere\", triangles = [320, 80] }",
+        "mesh = \"ball.obj\"",
+    );
+    let scene = Scene::parse(&text, "dir/s.toml").unwrap();
+    assert_eq!(
+        scene.objects[0].source,
+        MeshSource::Whole {
+            mesh: PathBuf::from("dir/ball.obj")
+        }
+    );
+    assert_eq!(scene.objects[0].source.n_lods(), None);
 }

@@ -376,6 +376,13 @@ pub enum MeshSource {
         /// Target triangles per LOD, finest first.
         triangles: Vec<u32>,
     },
+    /// One mesh kept whole as LOD 0, its coarser LODs simplified to a
+    /// quarter of the triangles each, down to 32, at most four (`mesh`
+    /// without `generate_triangles`).
+    Whole {
+        /// The mesh, resolved against the scene file's folder.
+        mesh: PathBuf,
+    },
     /// A procedural object tessellated to target triangle counts (finest
     /// first, strictly decreasing; met as closely as the tessellation allows).
     Procedural {
@@ -387,13 +394,15 @@ pub enum MeshSource {
 }
 
 impl MeshSource {
-    /// Number of LODs in the chain (>= 1).
-    pub fn n_lods(&self) -> usize {
+    /// Number of LODs in the chain (>= 1); `None` for a mesh kept whole,
+    /// whose count follows from its triangles once it is loaded.
+    pub fn n_lods(&self) -> Option<usize> {
         match self {
-            MeshSource::Lods(l) => l.len(),
+            MeshSource::Lods(l) => Some(l.len()),
             MeshSource::Generated { triangles, .. } | MeshSource::Procedural { triangles, .. } => {
-                triangles.len()
+                Some(triangles.len())
             }
+            MeshSource::Whole { .. } => None,
         }
     }
 }

@@ -43,16 +43,17 @@ impl Ctx<'_> {
                 if mesh.trim().is_empty() {
                     return Err(self.invalid(at("mesh"), "empty path"));
                 }
-                let Some(triangles) = o.generate_triangles else {
-                    return Err(self.invalid(
-                        at("generate_triangles"),
-                        "missing: `mesh` needs generate_triangles = [finest, ..., coarsest]",
-                    ));
-                };
-                self.triangles(&at("generate_triangles"), &triangles)?;
-                MeshSource::Generated {
-                    mesh: self.resolve(&mesh),
-                    triangles,
+                match o.generate_triangles {
+                    None => MeshSource::Whole {
+                        mesh: self.resolve(&mesh),
+                    },
+                    Some(triangles) => {
+                        self.triangles(&at("generate_triangles"), &triangles)?;
+                        MeshSource::Generated {
+                            mesh: self.resolve(&mesh),
+                            triangles,
+                        }
+                    }
                 }
             }
             (None, None, Some(p)) => {

@@ -114,7 +114,7 @@ impl Ctx<'_> {
                         }
                     }
                 }
-                MeshSource::Generated { mesh, .. } => {
+                MeshSource::Generated { mesh, .. } | MeshSource::Whole { mesh } => {
                     if !mesh.is_file() {
                         return Err(self.invalid(
                             format!("objects[{i}].mesh"),
