@@ -1,0 +1,320 @@
+//! The plain-old-data structs of the C interface, laid out as C lays them
+//! out (`#[repr(C)]`), with no pointers inside: they can be copied, zeroed
+//! and marshalled freely (C# `[StructLayout(LayoutKind.Sequential)]`).
+//! Flags are `uint32_t` (0 off, anything else on) rather than `bool`, and
+//! enumerations are `uint32_t` constants, so that no value C can store is
+//! invalid on the Rust side.
+
+use crate::error::{AcuityStatus, Result, guard, write_out};
+
+/// An object's handle in a selector, from `acuity_selector_add_object`:
+/// never 0 (`ACUITY_NO_OBJECT`).
+pub type AcuityObject = u64;
+
+/// No object (a frame's `pursued` when the eyes pursue nothing).
+pub const ACUITY_NO_OBJECT: AcuityObject = 0;
+
+/// The LOD value of an object that is culled (outside the view, behind
+/// the camera, or not selected yet).
+pub const ACUITY_LOD_CULLED: u8 = 255;
+
+/// No gaze tracking: the gaze is the display's centre, no margin.
+pub const ACUITY_TRACKER_NONE: u32 = 0;
+/// Head tracking only: the gaze is the head's forward direction; 15 deg
+/// are subtracted from every eccentricity for the eyes' freedom.
+pub const ACUITY_TRACKER_HEAD: u32 = 1;
+/// An eye tracker whose error is `AcuityFrame::tracker_error_deg`.
+pub const ACUITY_TRACKER_EYE: u32 = 2;
+
+/// A position in world units, `double` so that scenes far from the origin
+/// select exactly as near it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityVec3d {
+    /// x.
+    pub x: f64,
+    /// y.
+    pub y: f64,
+    /// z.
+    pub z: f64,
+}
+
+/// A direction.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityVec3f {
+    /// x.
+    pub x: f32,
+    /// y.
+    pub y: f32,
+    /// z.
+    pub z: f32,
+}
+
+/// A rotation as a quaternion `(x, y, z, w)`; identity is `(0, 0, 0, 1)`.
+/// It need not be exactly normalised; a zero or non-finite one is refused.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AcuityQuat {
+    /// x.
+    pub x: f32,
+    /// y.
+    pub y: f32,
+    /// z.
+    pub z: f32,
+    /// w.
+    pub w: f32,
+}
+
+/// A display as the viewer sees it: resolution and the field of view the
+/// image subtends at the eye (symmetric about the view axis).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AcuityDisplay {
+    /// Horizontal resolution, pixels (> 0).
+    pub width_px: u32,
+    /// Vertical resolution, pixels (> 0).
+    pub height_px: u32,
+    /// Horizontal field of view, deg, in (0, 179.9].
+    pub fov_x_deg: f32,
+    /// Vertical field of view, deg, in (0, 179.9].
+    pub fov_y_deg: f32,
+}
+
+/// How a selector works; fixed at creation. Start from
+/// `acuity_settings_default` and change what you need.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AcuitySettings {
+    /// Time constant of the smoothing of retinal velocity, s (finite,
+    /// >= 0; 0: none). Default 0.05.
+    pub velocity_time_constant_s: f32,
+    /// Length of a cross-fade between LODs, s (finite, >= 0; 0, the
+    /// default: LODs switch at once). Turns `track_changes` on.
+    pub fade_time_s: f32,
+    /// Hysteresis of switches to coarser LODs, a fraction in [0, 1]
+    /// (0, the default: off).
+    pub switch_hysteresis: f32,
+    /// Least time an object keeps an LOD before it may coarsen, s (finite,
+    /// >= 0; 0, the default: off).
+    pub switch_min_dwell_s: f32,
+    /// Non-zero: list the objects whose LOD changed each frame
+    /// (`acuity_selector_changes`). Default 0.
+    pub track_changes: u32,
+    /// Non-zero: cull objects outside the view frustum. Default 1.
+    pub cull: u32,
+}
+
+/// An object to select LODs for.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AcuityObjectDesc {
+    /// Centre of the bounding sphere, world units (finite, each coordinate
+    /// within +-1e15).
+    pub center: AcuityVec3d,
+    /// Rotation from the object's frame (its profile's) to the world.
+    pub rotation: AcuityQuat,
+    /// Radius of the bounding sphere, world units (finite, >= 0): the
+    /// profile's `bounding_radius` times the instance's scale.
+    pub radius: f32,
+    /// The object's profile: an index from `acuity_selector_add_profile`.
+    pub profile: u32,
+}
+
+/// One frame's input: where the camera is, where the viewer looks, and the
+/// time since the previous frame. `acuity_frame_default` fills one in.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AcuityFrame {
+    /// The camera's position, world units (finite, within +-1e15).
+    pub camera_position: AcuityVec3d,
+    /// Rotation from camera space to world space: the camera looks along
+    /// its local -Z with +Y up.
+    pub camera_orientation: AcuityQuat,
+    /// The object the eyes pursue (its retinal velocity counts as 0), or
+    /// `ACUITY_NO_OBJECT`. A removed object's handle pursues nothing.
+    pub pursued: AcuityObject,
+    /// Gaze direction in camera space, any finite non-zero vector;
+    /// `(0, 0, -1)` is the display's centre.
+    pub gaze_direction: AcuityVec3f,
+    /// How the gaze is known: `ACUITY_TRACKER_NONE`, `_HEAD` or `_EYE`.
+    pub tracker: u32,
+    /// With `ACUITY_TRACKER_EYE`: the tracker's error, deg (finite,
+    /// >= 0; 1 is typical). Ignored otherwise.
+    pub tracker_error_deg: f32,
+    /// Time since the previous frame, s (finite, >= 0). 0 keeps the
+    /// objects' smoothed velocities as they were (a repeated frame).
+    pub dt_s: f32,
+}
+
+/// What a profile holds, in brief.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityProfileInfo {
+    /// Number of LODs (1 to 64); LOD 0 is the finest.
+    pub lod_count: u32,
+    /// Triangles of LOD 0.
+    pub finest_triangles: u32,
+    /// Triangles of the coarsest LOD.
+    pub coarsest_triangles: u32,
+    /// Number of sampled viewpoints.
+    pub viewpoint_count: u32,
+    /// Bounding sphere radius of LOD 0 in the mesh's own units.
+    pub bounding_radius: f32,
+}
+
+/// An object whose selection changed in the last frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityChange {
+    /// The object.
+    pub object: AcuityObject,
+    /// Its LOD now (0 the finest), or `ACUITY_LOD_CULLED`.
+    pub lod: u32,
+}
+
+/// A cross-fade in progress: draw `from_lod` with weight `1 - fraction`
+/// and `to_lod` with weight `fraction`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityFade {
+    /// The object.
+    pub object: AcuityObject,
+    /// The LOD fading out.
+    pub from_lod: u32,
+    /// The LOD fading in (the object's selection).
+    pub to_lod: u32,
+    /// How far the fade has gone, in [0, 1).
+    pub fraction: f32,
+}
+
+/// Counts after the last frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuityStats {
+    /// Objects in the selector.
+    pub objects: u64,
+    /// Objects not culled.
+    pub visible: u64,
+    /// Triangles drawn with the current selections.
+    pub triangles: u64,
+    /// Objects whose selection changed (with `track_changes`; else 0).
+    pub changed: u64,
+    /// Cross-fades in progress.
+    pub fading: u64,
+}
+
+impl From<AcuityVec3d> for acuity::glam::DVec3 {
+    fn from(v: AcuityVec3d) -> Self {
+        Self::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<AcuityVec3f> for acuity::glam::Vec3 {
+    fn from(v: AcuityVec3f) -> Self {
+        Self::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<AcuityQuat> for acuity::glam::Quat {
+    fn from(q: AcuityQuat) -> Self {
+        Self::from_xyzw(q.x, q.y, q.z, q.w)
+    }
+}
+
+impl Default for AcuityQuat {
+    fn default() -> Self {
+        Self {
+            x: 0.0,
+            y: 0.0,
+            z: 0.0,
+            w: 1.0,
+        }
+    }
+}
+
+impl Default for AcuitySettings {
+    fn default() -> Self {
+        let d = acuity::SelectorSettings::default();
+        Self {
+            velocity_time_constant_s: d.velocity_time_constant_s,
+            fade_time_s: d.fade_time_s,
+            switch_hysteresis: d.switch_hysteresis,
+            switch_min_dwell_s: d.switch_min_dwell_s,
+            track_changes: d.track_changes.into(),
+            cull: d.cull.into(),
+        }
+    }
+}
+
+impl Default for AcuityFrame {
+    fn default() -> Self {
+        Self {
+            camera_position: AcuityVec3d::default(),
+            camera_orientation: AcuityQuat::default(),
+            pursued: ACUITY_NO_OBJECT,
+            gaze_direction: AcuityVec3f {
+                x: 0.0,
+                y: 0.0,
+                z: -1.0,
+            },
+            tracker: ACUITY_TRACKER_NONE,
+            tracker_error_deg: 0.0,
+            dt_s: 1.0 / 60.0,
+        }
+    }
+}
+
+impl AcuitySettings {
+    /// The runtime's settings; NaN and out-of-range values refused.
+    pub(crate) fn to_runtime(self) -> Result<acuity::SelectorSettings> {
+        use crate::error::{Failure, finite};
+        let non_negative = |v: f32, name: &str| -> Result<f32> {
+            let v = finite(v, name)?;
+            if v < 0.0 {
+                return Err(Failure::invalid(format!(
+                    "`{name}` is {v}; it must be >= 0"
+                )));
+            }
+            Ok(v)
+        };
+        Ok(acuity::SelectorSettings {
+            velocity_time_constant_s: non_negative(
+                self.velocity_time_constant_s,
+                "settings.velocity_time_constant_s",
+            )?,
+            fade_time_s: non_negative(self.fade_time_s, "settings.fade_time_s")?,
+            switch_hysteresis: non_negative(self.switch_hysteresis, "settings.switch_hysteresis")?,
+            switch_min_dwell_s: non_negative(
+                self.switch_min_dwell_s,
+                "settings.switch_min_dwell_s",
+            )?,
+            track_changes: self.track_changes != 0,
+            cull: self.cull != 0,
+            ..acuity::SelectorSettings::default()
+        })
+    }
+}
+
+/// Writes the default settings into `*out`: velocity smoothing 0.05 s,
+/// culling on, no change list, no cross-fades, no hysteresis.
+///
+/// # Safety
+/// `out` must be NULL (refused) or valid for writing an `AcuitySettings`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn acuity_settings_default(out: *mut AcuitySettings) -> AcuityStatus {
+    // SAFETY: forwarded from this function's contract.
+    guard(|| unsafe { write_out(out, "out", AcuitySettings::default()) })
+}
+
+/// Writes a default frame into `*out`: camera at the origin looking along
+/// -Z with +Y up, gaze at the display's centre without tracking, no
+/// pursuit, `dt_s` 1/60.
+///
+/// # Safety
+/// `out` must be NULL (refused) or valid for writing an `AcuityFrame`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn acuity_frame_default(out: *mut AcuityFrame) -> AcuityStatus {
+    // SAFETY: forwarded from this function's contract.
+    guard(|| unsafe { write_out(out, "out", AcuityFrame::default()) })
+}
