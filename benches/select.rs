@@ -156,6 +156,12 @@ fn bench_select(c: &mut Criterion) {
                 Extras::Budget(BudgetRule::BestEffort),
             ),
             (
+                "single_thread_best_effort_unweighted",
+                false,
+                SimdLevel::Widest,
+                Extras::Budget(BudgetRule::BestEffortUnweighted),
+            ),
+            (
                 "single_thread_budget_uniform",
                 false,
                 SimdLevel::Widest,

@@ -118,7 +118,11 @@ fn two_lod_profile(triangles: [u32; 2], freq_cdiam: f32) -> acuity::Profile {
 #[test]
 fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_saves_40_at_the_same_visibility()
  {
-    for rule in [BudgetRule::BestEffort, BudgetRule::UniformScale] {
+    for rule in [
+        BudgetRule::BestEffort,
+        BudgetRule::BestEffortUnweighted,
+        BudgetRule::UniformScale,
+    ] {
         let settings = SelectorSettings {
             budget_rule: rule,
             ..SelectorSettings::default()
@@ -151,11 +155,58 @@ fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_save
         let lods = (sel.selection(a).lod(), sel.selection(b).lod());
         match rule {
             // The big saver goes; the small one keeps its detail.
-            BudgetRule::BestEffort => assert_eq!(lods, (Some(1), Some(0)), "{out:?}"),
+            BudgetRule::BestEffort | BudgetRule::BestEffortUnweighted => {
+                assert_eq!(lods, (Some(1), Some(0)), "{out:?}")
+            }
             // One s for both: both go at the same breakpoint.
             BudgetRule::UniformScale => assert_eq!(lods, (Some(1), Some(1)), "{out:?}"),
         }
     }
+}
+
+#[test]
+fn best_effort_coarsens_the_smaller_of_two_objects_whose_steps_are_as_visible_first() {
+    // Two objects of one profile on the line of sight, one twice as far:
+    // at twice the distance the far one's threshold (judged at half the
+    // size, a rung lower) is half the near one's; a bias of 2 makes its
+    // step as visible, a bias of 2.6 more visible. One step fits 5,500
+    // triangles.
+    let choose = |rule, bias: f32| {
+        let settings = SelectorSettings {
+            budget_rule: rule,
+            ..SelectorSettings::default()
+        };
+        let mut sel = Selector::new(display(), settings);
+        let p = sel
+            .add_profile(&two_lod_profile([4000, 1000], 60.0))
+            .unwrap();
+        let mut add = |z: f64| {
+            sel.add_object(ObjectDesc {
+                center: DVec3::new(0.0, 0.0, z),
+                radius: 1.0,
+                rotation: Quat::IDENTITY,
+                profile: p,
+            })
+            .unwrap()
+        };
+        let (near, far) = (add(-10.0), add(-20.0));
+        sel.set_bias(far, bias).unwrap();
+        let frame = frame_at(DVec3::ZERO, 0.016);
+        sel.select(&frame).unwrap();
+        assert_eq!(sel.triangles(), 8000, "both visible at s = 1");
+        let out = sel.select_within_budget(&frame, 5500).unwrap();
+        assert!(out.within_budget, "{rule:?}: {out:?}");
+        (sel.selection(near).lod(), sel.selection(far).lod())
+    };
+    let far_goes = (Some(0), Some(1));
+    // Weighed by size, the step on half the angular size costs half.
+    assert_eq!(choose(BudgetRule::BestEffort, 2.0), far_goes);
+    assert_eq!(choose(BudgetRule::BestEffort, 2.6), far_goes);
+    // Unweighted, the far step is now the more visible one.
+    assert_eq!(
+        choose(BudgetRule::BestEffortUnweighted, 2.6),
+        (Some(1), Some(0))
+    );
 }
 
 fn with_scale(mut frame: FrameInput, scale: f32) -> FrameInput {

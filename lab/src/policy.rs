@@ -48,6 +48,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityReactiveNoHeadroom
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
+        | Policy::AcuityBestEffortUnweighted
         | Policy::AcuityBudgetUniform => c(true, true, true),
     }
 }
@@ -136,6 +137,8 @@ impl PolicyRunner {
                 Policy::AcuityBudgetUniform | Policy::AcuityPredictiveUniform
             ) {
                 BudgetRule::UniformScale
+            } else if policy == Policy::AcuityBestEffortUnweighted {
+                BudgetRule::BestEffortUnweighted
             } else {
                 BudgetRule::BestEffort
             },

@@ -5,24 +5,29 @@
 //! spend a budget by benefit over cost).
 //!
 //! The visibility of an object's next step, from LOD `j` to the next LOD
-//! that draws fewer triangles, is how far the object's acuity lies above
-//! the step's critical acuity: `v = k / q` with `k = H(v, E) u` the
-//! object's threshold at `s = 1` and `q` the prefix minimum of the
+//! that draws fewer triangles, starts from how far the object's acuity
+//! lies above the step's critical acuity: `v = k / q` with `k = H(v, E) u`
+//! the object's threshold at `s = 1` and `q` the prefix minimum of the
 //! transitions it crosses ([`crate::rows`]): at `s = 1 / v` the step
 //! becomes invisible, so `v = 1` is just imperceptible and a larger `v` is
-//! further above threshold. Its cost is `ln(v) / saved` (0 at the edge of
-//! visibility; in units of log-acuity per triangle), and the greedy takes
-//! the cheapest step of all objects until the triangles fit. A uniform
-//! `s` takes the steps in order of `v` alone, so an object that would save 3000 triangles at a barely visible
-//! cost waits behind one that saves 40 at the same cost; the greedy does
-//! not.
+//! further above threshold. [`BudgetRule::BestEffort`](super::BudgetRule::BestEffort)
+//! weighs `ln v` by the object's angular size `theta` (deg), because an
+//! image is judged by its differences over all of it and a LOD step's
+//! differences lie along the object's outline and edges, whose length on
+//! screen grows with `theta`; its cost is `theta ln(v) / saved` (0 at the
+//! edge of visibility). [`BudgetRule::BestEffortUnweighted`](super::BudgetRule::BestEffortUnweighted)
+//! leaves the size out: `ln(v) / saved`. The greedy takes the cheapest
+//! step of all objects until the triangles fit. A uniform `s` takes the
+//! steps in order of `v` alone, so an object that would save 3000
+//! triangles at a barely visible cost waits behind one that saves 40 at
+//! the same cost; the greedy does not.
 //!
 //! A step may only be taken after the object's steps before it, so each
 //! step counts at the highest cost of its chain so far (a running maximum
 //! along the object's LODs); taking steps in order of that cost is what a
 //! heap that pops the cheapest available step does, and it needs no heap:
-//! the savings are binned over the logarithm of the cost (1024 bins, a
-//! 20th of an octave each), the bin where they reach what the budget needs
+//! the savings are binned over the logarithm of the cost (1024 bins, an
+//! 18th of an octave each), the bin where they reach what the budget needs
 //! is found, every step below it is taken and, within it, steps in object
 //! order until the triangles fit. Three passes over the objects, no
 //! allocation.
@@ -46,7 +51,8 @@ use super::{Selection, Selector};
 /// One object's next coarsening step.
 #[derive(Clone, Copy, Debug)]
 struct Step {
-    /// `ln(v) / saved`: what the step costs per triangle it saves.
+    /// `theta ln(v) / saved` (or `ln(v) / saved`): what the step costs
+    /// per triangle it saves.
     cost: f32,
     /// The scale `s = 1 / v` at which the step becomes invisible.
     scale: f32,
@@ -58,7 +64,7 @@ struct Step {
 /// of visibility), the rest [`BINS_PER_OCTAVE`] a binary octave from
 /// `2^LOWEST_OCTAVE`.
 const BINS: usize = 1024;
-const BINS_PER_OCTAVE: f32 = 20.0;
+const BINS_PER_OCTAVE: f32 = 18.0;
 const LOWEST_OCTAVE: f32 = -40.0;
 
 /// The factor by which a step that would switch an object before its
@@ -79,7 +85,10 @@ impl Step {
 }
 
 fn bin_of(cost: f32) -> usize {
-    if cost.is_nan() || cost <= 0.0 {
+    if cost.is_nan() {
+        return BINS - 1;
+    }
+    if cost <= 0.0 {
         return 0;
     }
     let b = (cost.log2() - LOWEST_OCTAVE) * BINS_PER_OCTAVE + 1.0;
@@ -92,7 +101,12 @@ impl Selector {
     /// the triangles fit `triangle_budget` where the steps allowed reach
     /// it, cheapest step first (see the module docs). Returns the scale
     /// reached and the triangles drawn (LOD ranges counted).
-    pub(super) fn best_effort_within(&mut self, s_max: f32, triangle_budget: u64) -> (f32, u64) {
+    pub(super) fn best_effort_within(
+        &mut self,
+        s_max: f32,
+        triangle_budget: u64,
+        weighted: bool,
+    ) -> (f32, u64) {
         let s_min = self.settings.min_scale.clamp(1e-6, s_max);
         let multi = self.multi();
         // Per slot, its entry in `adjusted` (u32::MAX: none).
@@ -127,11 +141,11 @@ impl Selector {
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
             let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
-            let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
+            let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
             while let Some(step) = next {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
-                next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
+                next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
             }
         }
         let mut reached = s_max;
@@ -160,7 +174,7 @@ impl Selector {
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
                     let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
-                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min);
+                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
                     while let Some(step) = next {
                         cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
@@ -175,7 +189,14 @@ impl Selector {
                         triangles -= u64::from(step.saved);
                         reached = reached.min(step.scale);
                         self.selections[slot] = Selection(step.to_lod);
-                        next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min);
+                        next = self.next_step(
+                            slot,
+                            &entry,
+                            adjust,
+                            step.to_lod as usize,
+                            s_min,
+                            weighted,
+                        );
                     }
                 }
             }
@@ -213,7 +234,8 @@ impl Selector {
     }
 
     /// The object's next step from `lod`: to the first coarser LOD that
-    /// draws fewer triangles, if `s_min` allows it.
+    /// draws fewer triangles, if `s_min` allows it. Its visibility is
+    /// `ln v`, times the object's angular size (deg) when `weighted`.
     fn next_step(
         &self,
         slot: usize,
@@ -221,6 +243,7 @@ impl Selector {
         adjust: u32,
         lod: usize,
         s_min: f32,
+        weighted: bool,
     ) -> Option<Step> {
         let p = self.object_profiles[slot] as usize;
         let n = self.profiles[p].lod_count;
@@ -236,9 +259,14 @@ impl Selector {
             let after = self.drawn_triangles(p, adjust, j + 1);
             if after < now {
                 let saved = now - after;
-                let visibility = (entry.k_cdiam / q).max(1.0);
+                let margin = (entry.k_cdiam / q).max(1.0).ln();
+                let visibility = if weighted {
+                    margin * entry.angular_size_deg
+                } else {
+                    margin
+                };
                 return Some(Step {
-                    cost: visibility.ln() / saved as f32,
+                    cost: visibility / saved as f32,
                     scale,
                     saved,
                     to_lod: (j + 1) as u8,

@@ -754,6 +754,7 @@ fn write_extras(
         if let Some(b) = budget.as_deref_mut() {
             b[index] = BudgetEntry {
                 k_cdiam: m.k_cdiam[i],
+                angular_size_deg: m.theta_deg[i],
                 row: m.row[i],
             };
         }

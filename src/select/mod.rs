@@ -354,9 +354,18 @@ pub enum BudgetRule {
     /// Coarsen first where the predicted visibility per triangle saved is
     /// lowest (Luebke & Hallen 2001 §4; Funkhouser & Séquin 1993's benefit
     /// over cost): objects that save many triangles at a barely visible
-    /// cost go before those that save few.
+    /// cost go before those that save few. A step's visibility is how far
+    /// the object's acuity lies above the step's critical acuity (`ln v`)
+    /// times the object's angular size in degrees: what a LOD step changes
+    /// lies along the object's outline and edges, whose length on screen
+    /// grows with its size, and an image is judged by the differences
+    /// over all of it.
     #[default]
     BestEffort,
+    /// As [`BudgetRule::BestEffort`] with the visibility `ln v` alone,
+    /// whatever the object's size (the rule before size weighed in; kept
+    /// to measure against).
+    BestEffortUnweighted,
     /// Lower one `s` for every object until the triangles fit (Reddy
     /// 1998's global scale): the least visible detail first, whatever it
     /// saves.

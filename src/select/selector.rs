@@ -378,7 +378,9 @@ impl Selector {
     /// allowed by [`SelectorSettings::min_scale`] is left, by the rule of
     /// [`SelectorSettings::budget_rule`]:
     /// - [`BudgetRule::BestEffort`]: the cheapest step in predicted
-    ///   visibility per triangle saved first (`best_effort`);
+    ///   visibility, weighted by the object's angular size, per triangle
+    ///   saved first (`best_effort`);
+    /// - [`BudgetRule::BestEffortUnweighted`]: the same without the size;
     /// - [`BudgetRule::UniformScale`]: the largest `s` in
     ///   `[min_scale, frame.scale]` whose LODs fit, one `s` for every
     ///   object. Every object's LOD is a step function of `s` with
@@ -402,7 +404,10 @@ impl Selector {
             self.advance_clock(frame.dt_s);
         }
         let (scale, mut triangles) = match self.settings.budget_rule {
-            BudgetRule::BestEffort => self.best_effort_within(s_max, triangle_budget),
+            BudgetRule::BestEffort => self.best_effort_within(s_max, triangle_budget, true),
+            BudgetRule::BestEffortUnweighted => {
+                self.best_effort_within(s_max, triangle_budget, false)
+            }
             BudgetRule::UniformScale => {
                 let (scale, triangles) = self.uniform_scale_within(s_max, triangle_budget);
                 self.apply_budget_scale(scale);

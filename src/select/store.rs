@@ -50,6 +50,8 @@ pub(super) struct BudgetEntry {
     /// `H(v, E) u`: the threshold at `s = 1` in c/diam, `u` the size the
     /// object is judged at (`inf` inside the bounding sphere).
     pub(super) k_cdiam: f32,
+    /// The object's angular diameter, deg (180 inside its bounding sphere).
+    pub(super) angular_size_deg: f32,
     /// Start of the object's prefix-minimum row; `u32::MAX` when culled.
     pub(super) row: u32,
 }

@@ -434,6 +434,10 @@ pub enum Policy {
     /// detail's triangles, the experiment's knob), spent best effort:
     /// the least visible detail per triangle first.
     AcuityBestEffort,
+    /// As [`Policy::AcuityBestEffort`], each step's visibility not weighed
+    /// by the object's size ([`acuity::BudgetRule::BestEffortUnweighted`],
+    /// the rule before; kept to measure against).
+    AcuityBestEffortUnweighted,
     /// As [`Policy::AcuityBestEffort`], with one `s` lowered for every
     /// object until the budget fits.
     AcuityBudgetUniform,
@@ -470,11 +474,16 @@ impl Policy {
     /// The policies under a fixed share of full detail's triangles, not in
     /// [`Policy::ALL`] (scenes and runs name them explicitly; `experiment
     /// error --budgets` sweeps them).
-    pub const BUDGETED: [Policy; 2] = [Policy::AcuityBestEffort, Policy::AcuityBudgetUniform];
+    pub const BUDGETED: [Policy; 3] = [
+        Policy::AcuityBestEffort,
+        Policy::AcuityBestEffortUnweighted,
+        Policy::AcuityBudgetUniform,
+    ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 6] = [
+    pub const EXTRA: [Policy; 7] = [
         Policy::AcuityBestEffort,
+        Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
         Policy::AcuityPredictiveUniform,
         Policy::ScreenSizeReactive,
@@ -541,6 +550,7 @@ impl Policy {
             Policy::AcuityReactive => "acuity_reactive",
             Policy::AcuityPredictive => "acuity_predictive",
             Policy::AcuityBestEffort => "acuity_best_effort",
+            Policy::AcuityBestEffortUnweighted => "acuity_best_effort_unweighted",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
             Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
             Policy::ScreenSizeReactive => "screen_size_reactive",
