@@ -34,7 +34,8 @@ pub struct ErrorArgs {
     pub acuity_policies: Vec<String>,
     /// Triangle budgets as shares of full detail's triangles in view,
     /// comma-separated, in (0, 1]: each runs `acuity_best_effort` (the
-    /// least visible detail per triangle first) and
+    /// least visible detail per triangle first, weighed by object size),
+    /// `acuity_best_effort_unweighted` (without the size) and
     /// `acuity_budget_uniform` (one `s` lowered for all) under that budget
     /// (default: none).
     #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
