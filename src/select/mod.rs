@@ -189,7 +189,8 @@ pub struct SelectorSettings {
     /// one, in `[0, 0.9]` (values outside are clamped; NaN is 0): objects
     /// whose steps cost about the same then keep their LODs instead of
     /// trading places whenever the budget or the view moves a little
-    /// (hysteresis; 0.3 by default, about half an octave of cost).
+    /// (hysteresis; 0.5 by default, an octave of cost: costs weigh in the
+    /// objects' sizes, which change every frame as the view moves).
     pub budget_hysteresis: f32,
     /// Hysteresis of [`Selector::select`]'s switches to coarser LODs, a
     /// fraction in `[0, 1]` (larger values count as 1; NaN and values not
@@ -330,7 +331,7 @@ impl Default for SelectorSettings {
             parallel_min_objects: 32_768,
             min_scale: 0.01,
             budget_rule: BudgetRule::default(),
-            budget_hysteresis: 0.3,
+            budget_hysteresis: 0.5,
             switch_hysteresis: 0.0,
             switch_min_dwell_s: 0.0,
             simd: SimdLevel::Widest,
