@@ -45,6 +45,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityReactive
         | Policy::AcuityPredictive
         | Policy::AcuityPredictiveUniform
+        | Policy::AcuityPredictiveUnweighted
         | Policy::AcuityReactiveNoHeadroom
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
@@ -137,7 +138,10 @@ impl PolicyRunner {
                 Policy::AcuityBudgetUniform | Policy::AcuityPredictiveUniform
             ) {
                 BudgetRule::UniformScale
-            } else if policy == Policy::AcuityBestEffortUnweighted {
+            } else if matches!(
+                policy,
+                Policy::AcuityBestEffortUnweighted | Policy::AcuityPredictiveUnweighted
+            ) {
                 BudgetRule::BestEffortUnweighted
             } else {
                 BudgetRule::BestEffort
@@ -215,9 +219,11 @@ impl PolicyRunner {
                 ReactiveScheduler::new(tuned()?.without_headroom()),
                 None,
             )),
-            Policy::AcuityPredictive | Policy::AcuityPredictiveUniform => Some(
-                Scheduler::Predictive(PredictiveScheduler::new(tuned()?, cost)),
-            ),
+            Policy::AcuityPredictive
+            | Policy::AcuityPredictiveUniform
+            | Policy::AcuityPredictiveUnweighted => Some(Scheduler::Predictive(
+                PredictiveScheduler::new(tuned()?, cost),
+            )),
             Policy::AcuityPredictiveNoHeadroom => Some(Scheduler::PredictiveNoHeadroom(cost)),
             _ => None,
         };

@@ -61,11 +61,12 @@ pub struct FramerateArgs {
 }
 
 /// The policies the experiment plays, in report order.
-pub const FRAMERATE_POLICIES: [Policy; 8] = [
+pub const FRAMERATE_POLICIES: [Policy; 9] = [
     Policy::Full,
     Policy::AcuityAll,
     Policy::AcuityReactive,
     Policy::AcuityPredictive,
+    Policy::AcuityPredictiveUnweighted,
     Policy::AcuityPredictiveUniform,
     Policy::ScreenSizeReactive,
     Policy::AcuityReactiveNoHeadroom,

@@ -444,6 +444,10 @@ pub enum Policy {
     /// As [`Policy::AcuityPredictive`], with one `s` lowered for every
     /// object until the predicted frame fits (the rule before best effort).
     AcuityPredictiveUniform,
+    /// As [`Policy::AcuityPredictive`], with its budget spent by
+    /// [`acuity::BudgetRule::BestEffortUnweighted`] (the rule before the
+    /// size weight; kept to measure against).
+    AcuityPredictiveUnweighted,
     /// The screen-size table with its bias times the `s` of the reactive
     /// scheduler: the frame-rate controller a user would write without
     /// acuity, to compare with [`Policy::AcuityReactive`].
@@ -481,11 +485,12 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 7] = [
+    pub const EXTRA: [Policy; 8] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
         Policy::AcuityPredictiveUniform,
+        Policy::AcuityPredictiveUnweighted,
         Policy::ScreenSizeReactive,
         Policy::AcuityReactiveNoHeadroom,
         Policy::AcuityPredictiveNoHeadroom,
@@ -498,6 +503,7 @@ impl Policy {
             Policy::AcuityReactive
                 | Policy::AcuityPredictive
                 | Policy::AcuityPredictiveUniform
+                | Policy::AcuityPredictiveUnweighted
                 | Policy::ScreenSizeReactive
                 | Policy::AcuityReactiveNoHeadroom
                 | Policy::AcuityPredictiveNoHeadroom
@@ -553,6 +559,7 @@ impl Policy {
             Policy::AcuityBestEffortUnweighted => "acuity_best_effort_unweighted",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
             Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
+            Policy::AcuityPredictiveUnweighted => "acuity_predictive_unweighted",
             Policy::ScreenSizeReactive => "screen_size_reactive",
             Policy::AcuityReactiveNoHeadroom => "acuity_reactive_no_headroom",
             Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
