@@ -605,4 +605,25 @@ fn a_scene_takes_a_ready_profile_and_shares_one_analysis() {
         "{}",
         stderr(&o)
     );
+    // `preprocess` shares too, with the cached twin or with the one it
+    // analyses, and writes the profile under both names for `--check`.
+    for (flags, left) in [
+        (&[][..], "left: cached"),
+        (&["--force"][..], "left: analysed"),
+    ] {
+        let mut args = vec![s(&twins)];
+        args.extend_from_slice(flags);
+        let o = acuity(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let out = stdout(&o);
+        assert!(out.contains(left), "{out}");
+        assert!(out.contains("right: shared with `left`"), "{out}");
+    }
+    let o = acuity(&[s(&twins), "--check"]);
+    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(0), "{out}{}", stderr(&o));
+    assert!(
+        out.contains("2 of 2 objects have an up-to-date profile"),
+        "{out}"
+    );
 }

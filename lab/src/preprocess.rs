@@ -275,7 +275,44 @@ fn gltf_carries_chain(path: &Path) -> bool {
 enum Outcome {
     Cached(Profile),
     Analysed(Profile),
+    /// Another object of the run has the same inputs and settings: its
+    /// profile, saved under this object's name; nothing rendered.
+    Shared(Profile),
     Failed(String),
+}
+
+impl Outcome {
+    /// The object's profile, unless it failed.
+    fn profile(&self) -> Option<&Profile> {
+        match self {
+            Outcome::Cached(p) | Outcome::Analysed(p) | Outcome::Shared(p) => Some(p),
+            Outcome::Failed(_) => None,
+        }
+    }
+
+    fn profile_mut(&mut self) -> Option<&mut Profile> {
+        match self {
+            Outcome::Cached(p) | Outcome::Analysed(p) | Outcome::Shared(p) => Some(p),
+            Outcome::Failed(_) => None,
+        }
+    }
+}
+
+/// What makes two objects' profiles the same: their inputs' content
+/// hashes (files, generation parameters) and the analysis settings.
+fn same_inputs_key(source: &ObjectSource, settings: &AnalysisSettings) -> Option<Vec<String>> {
+    let hashes = acuity_preprocess::pipeline::input_hashes(source, settings).ok()?;
+    Some(hashes.into_iter().map(|h| h.hash_hex).collect())
+}
+
+/// `profile`, made for another object of the same inputs and settings,
+/// named and saved as `job`'s cached profile.
+fn share_profile(profile: &Profile, job: &Job, out_dir: &Path) -> anyhow::Result<Profile> {
+    let mut shared = profile.clone();
+    shared.name = job.name.clone();
+    std::fs::create_dir_all(out_dir)?;
+    shared.save(profiles::cache_path(out_dir, &job.source))?;
+    Ok(shared)
 }
 
 /// One row of the final table.
@@ -352,7 +389,20 @@ fn process(
     out_dir: &Path,
 ) -> Vec<Row> {
     let analyse_all = args.force || args.inspect.is_some();
-    // First pass, hashing only: which objects are cached.
+    // Objects with the same inputs and settings (one mesh under two names)
+    // share one analysis: each made profile by its key, the object's index.
+    let keys: Vec<Option<Vec<String>>> = jobs
+        .iter()
+        .map(|j| same_inputs_key(&j.source, settings))
+        .collect();
+    let mut made: Vec<usize> = Vec::new();
+    let made_alike = |made: &[usize], i: usize| {
+        made.iter()
+            .copied()
+            .find(|&k| keys[i].is_some() && keys[k] == keys[i])
+    };
+    // First pass, hashing only: which objects are cached, or share a
+    // cached object's profile.
     let mut rows: Vec<Option<Row>> = Vec::with_capacity(jobs.len());
     let mut to_analyse = Vec::new();
     for (i, j) in jobs.iter().enumerate() {
@@ -370,7 +420,10 @@ fn process(
             continue;
         }
         match profiles::cached_profile(&j.source, settings, out_dir) {
-            Ok(Some(p)) => rows.push(row(Outcome::Cached(p))),
+            Ok(Some(p)) => {
+                made.push(i);
+                rows.push(row(Outcome::Cached(p)));
+            }
             Ok(None) => {
                 rows.push(None);
                 to_analyse.push(i);
@@ -378,6 +431,25 @@ fn process(
             Err(e) => rows.push(row(Outcome::Failed(crate::error::error_line(&e)))),
         }
     }
+    // Objects left to analyse that a cached object's profile serves.
+    to_analyse.retain(|&i| {
+        let Some(k) = made_alike(&made, i) else {
+            return true;
+        };
+        let t0 = Instant::now();
+        let profile = rows[k].as_ref().and_then(|r| r.outcome.profile());
+        let outcome = match profile.map(|p| share_profile(p, &jobs[i], out_dir)) {
+            Some(Ok(p)) => Outcome::Shared(p),
+            Some(Err(e)) => Outcome::Failed(crate::error::error_line(&e)),
+            None => return true,
+        };
+        rows[i] = Some(Row {
+            name: jobs[i].name.clone(),
+            outcome,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+        false
+    });
 
     let views_per_object =
         views::viewpoint_count(settings.viewpoint_level) * settings.diameters_px().len();
@@ -403,11 +475,16 @@ fn process(
     };
 
     // Report the first pass, in input order.
-    for (j, r) in jobs.iter().zip(&rows) {
+    for (i, (j, r)) in jobs.iter().zip(&rows).enumerate() {
         match r.as_ref().map(|r| &r.outcome) {
             Some(Outcome::Cached(_)) => {
                 println!("{}: cached (inputs unchanged, nothing rendered)", j.name)
             }
+            Some(Outcome::Shared(_)) => println!(
+                "{}: shared with `{}` (the same inputs and settings, nothing rendered)",
+                j.name,
+                made_alike(&made, i).map_or("?", |k| jobs[k].name.as_str())
+            ),
             Some(Outcome::Failed(e)) => eprintln!("error: object `{}`: {e}", j.name),
             _ => {}
         }
@@ -418,6 +495,29 @@ fn process(
         let j = &jobs[i];
         let src = &j.source;
         let t0 = Instant::now();
+        // An object analysed earlier in this loop serves this one.
+        if let Some(k) = made_alike(&made, i)
+            && let Some(p) = rows[k].as_ref().and_then(|r| r.outcome.profile())
+        {
+            let outcome = match share_profile(p, j, out_dir) {
+                Ok(p) => Outcome::Shared(p),
+                Err(e) => Outcome::Failed(crate::error::error_line(&e)),
+            };
+            bar.suspend(|| match &outcome {
+                Outcome::Failed(e) => eprintln!("error: object `{}`: {e}", j.name),
+                _ => println!(
+                    "{}: shared with `{}` (the same inputs and settings, nothing rendered)",
+                    j.name, jobs[k].name
+                ),
+            });
+            bar.inc(views_per_object as u64);
+            rows[i] = Some(Row {
+                name: j.name.clone(),
+                outcome,
+                seconds: t0.elapsed().as_secs_f64(),
+            });
+            continue;
+        }
         bar.set_message(j.name.clone());
         let r = renderer.get_or_insert_with(|| {
             let r = Renderer::new(&RendererOptions {
@@ -438,6 +538,7 @@ fn process(
                             eprintln!("warning: object `{}`: {w}", j.name);
                         }
                     });
+                    made.push(i);
                     Outcome::Analysed(p)
                 }
                 Err(e) => Outcome::Failed(crate::error::error_line(&e)),
@@ -465,7 +566,7 @@ fn process(
     let mut rows: Vec<Row> = rows.into_iter().flatten().collect();
     if args.export_lods {
         for (row, j) in rows.iter_mut().zip(jobs) {
-            let (Outcome::Cached(p) | Outcome::Analysed(p)) = &mut row.outcome else {
+            let Some(p) = row.outcome.profile_mut() else {
                 continue;
             };
             match profiles::export_lods(&j.source, p, out_dir) {
@@ -480,7 +581,7 @@ fn process(
     }
     if args.json {
         for (row, j) in rows.iter_mut().zip(jobs) {
-            let (Outcome::Cached(p) | Outcome::Analysed(p)) = &row.outcome else {
+            let Some(p) = row.outcome.profile() else {
                 continue;
             };
             let src = &j.source;
@@ -559,6 +660,7 @@ fn summary_csv(rows: &[Row]) -> String {
         let (p, result, error) = match &r.outcome {
             Outcome::Cached(p) => (Some(p), "cached", ""),
             Outcome::Analysed(p) => (Some(p), "analysed", ""),
+            Outcome::Shared(p) => (Some(p), "shared", ""),
             Outcome::Failed(e) => (None, "failed", e.as_str()),
         };
         let join = |v: Vec<String>| v.join("/");
@@ -606,6 +708,7 @@ fn table(rows: &[Row]) -> String {
             let (profile, result) = match &r.outcome {
                 Outcome::Cached(p) => (Some(p), "cached".to_string()),
                 Outcome::Analysed(p) => (Some(p), "analysed".to_string()),
+                Outcome::Shared(p) => (Some(p), "shared".to_string()),
                 Outcome::Failed(_) => (None, "FAILED".to_string()),
             };
             let dash = || "-".to_string();
