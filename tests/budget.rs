@@ -332,3 +332,47 @@ fn min_dwell_holds_a_coarsening_until_the_lod_has_been_held_that_long() {
         "still held 4/15 s > 0.25 s after switching"
     );
 }
+
+#[test]
+fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_held_that_long() {
+    for dwell_s in [0.0, 0.25] {
+        let settings = SelectorSettings {
+            switch_min_dwell_s: dwell_s,
+            ..SelectorSettings::default()
+        };
+        let mut sel = Selector::new(display(), settings);
+        let big = sel
+            .add_profile(&two_lod_profile([4000, 1000], 60.0))
+            .unwrap();
+        let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
+        let mut add = |x: f64, profile| {
+            sel.add_object(ObjectDesc {
+                center: DVec3::new(x, 0.0, -10.0),
+                radius: 1.0,
+                rotation: Quat::IDENTITY,
+                profile,
+            })
+            .unwrap()
+        };
+        let (a, _) = (add(-1.5, big), add(1.5, small));
+        let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
+        let mut lod_within = |budget: u64| {
+            let out = sel.select_within_budget(&frame, budget).unwrap();
+            assert!(out.within_budget, "{dwell_s}: {out:?}");
+            sel.selection(a).lod()
+        };
+        // Room for LOD 0 at first, then a budget that forces the big
+        // saver down (it had never switched: at once).
+        assert_eq!(lod_within(10_000), Some(0));
+        assert_eq!(lod_within(1100), Some(1), "{dwell_s}");
+        if dwell_s == 0.0 {
+            assert_eq!(lod_within(10_000), Some(0), "no dwell: back at once");
+            continue;
+        }
+        // The room comes back: held for 0.25 s (frames of 1/15 s).
+        for k in 1..=3 {
+            assert_eq!(lod_within(10_000), Some(1), "refined {k}/15 s after");
+        }
+        assert_eq!(lod_within(10_000), Some(0), "still held 4/15 s after");
+    }
+}

@@ -38,7 +38,11 @@
 //! [`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s),
 //! a step beyond last frame's LOD of an object that switched less than that
 //! ago costs [`DWELL_PENALTY`] times more, so it is taken only where the
-//! budget needs it.
+//! budget needs it, and such an object does not go back to a finer LOD
+//! until the dwell time has passed (the greedy starts from last frame's LOD
+//! where that is coarser than the one at the frame's `s`): under a budget
+//! that moves, the coarsening it forced and the refinement that would undo
+//! it a few frames later are what reads as flicker.
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
@@ -135,7 +139,14 @@ impl Selector {
                 continue;
             }
             let p = self.object_profiles[slot] as usize;
-            let lod = self.lod_at(&entry, p, s_max);
+            let mut lod = self.lod_at(&entry, p, s_max);
+            // Within the dwell time after a switch, no switch back to a
+            // finer LOD either: a budget's coarsening undone a few frames
+            // later is flicker, and keeping the coarser LOD only saves.
+            if self.switched_within(slot, dwell_s) {
+                let last = self.profiles[p].lod_count - 1;
+                lod = lod.max(self.kept_lod(slot).min(last));
+            }
             self.selections[slot] = Selection(lod as u8);
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));

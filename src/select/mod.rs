@@ -208,11 +208,14 @@ pub struct SelectorSettings {
     /// and values not `> 0` are off, the default. Under
     /// [`Selector::select_within_budget`], best effort takes a step that
     /// would switch an object before then only where the budget needs it
-    /// (it prices it 1024 times dearer), and a coarsening waits only while
-    /// the budget has room for the finer LOD it keeps. Switches to finer LODs
-    /// happen at once, so this only keeps detail: an object the view
-    /// sweeps back and forth over a transition does not flicker between
-    /// two LODs faster than this.
+    /// (it prices it 1024 times dearer), a coarsening waits only while the
+    /// budget has room for the finer LOD it keeps, and an object does not
+    /// switch back to a finer LOD before then either (under a budget that
+    /// moves, undoing a coarsening a few frames later is flicker; holding
+    /// the coarser LOD only saves triangles). Under [`Selector::select`]
+    /// switches to finer LODs happen at once, so there this only keeps
+    /// detail: an object the view sweeps back and forth over a transition
+    /// does not flicker between two LODs faster than this.
     pub switch_min_dwell_s: f32,
     /// The widest vector instructions the loop may use, detected at run
     /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
