@@ -166,6 +166,23 @@ pub(crate) fn apply_lods(
         }
     }
 
+    // Registered this frame but culled by every camera: the coarsest LOD.
+    for entity in std::mem::take(&mut tracked.fresh) {
+        let applied = tracked.entities.get(&entity).and_then(|r| r.applied);
+        if let (None, Ok(lod)) = (applied, lods.get(entity))
+            && let Some(coarsest) = lod.levels.len().checked_sub(1)
+        {
+            apply_lod(
+                entity,
+                &lod.levels,
+                coarsest,
+                &mut meshes,
+                &mut visibility,
+                &mut commands,
+            );
+        }
+    }
+
     // Fades: those of the camera that chose each entity's LOD.
     state.fading_next.clear();
     for (camera, view) in cameras.iter() {

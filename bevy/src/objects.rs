@@ -49,6 +49,9 @@ pub(crate) struct Tracked {
 #[derive(bevy::ecs::resource::Resource, Default)]
 pub(crate) struct TrackedEntities {
     pub(crate) entities: EntityHashMap<Tracked>,
+    /// Registered this frame: drawn at their coarsest LOD until a camera
+    /// chooses one (so a child chain never shows all its levels).
+    pub(crate) fresh: Vec<Entity>,
 }
 
 /// The object a selector is given for an entity: the bounding sphere from
@@ -133,7 +136,7 @@ pub(crate) fn sync_objects(
     mut commands: Commands,
     mut errors: MessageWriter<AcuityError>,
 ) {
-    let cameras = &mut *cameras;
+    let (cameras, tracked) = (&mut *cameras, &mut *tracked);
     for entity in removed.read() {
         if query.contains(entity) {
             continue; // removed and inserted again: re-registered below
@@ -193,6 +196,7 @@ pub(crate) fn sync_objects(
                     continue;
                 }
                 record.registration = Registration::Ready;
+                tracked.fresh.push(entity);
             }
             Registration::Ready => {
                 let Some(profile) = profiles.get(profile_id) else {

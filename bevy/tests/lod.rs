@@ -153,3 +153,15 @@ fn a_switch_cross_fades_two_dithered_children() {
             .all(|c| app.world().get::<VisibilityRange>(*c).is_none())
     );
 }
+
+#[test]
+fn an_entity_no_camera_sees_draws_one_level_its_coarsest() {
+    let mut app = app(0.0);
+    // The camera at z = 20 looks along -Z; the entity is behind it.
+    spawn_camera(&mut app, 20.0);
+    let profile = add_profile(&mut app);
+    let (entity, children) = spawn_group(&mut app, profile, Vec3::new(0.0, 0.0, 40.0));
+    app.update();
+    assert_eq!(lod(&app, entity), None, "culled: not chosen yet");
+    assert_eq!(shown(&app, &children), [3]);
+}
