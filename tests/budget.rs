@@ -3,7 +3,7 @@
 
 mod common;
 
-use acuity::{BudgetRule, FrameInput, ObjectDesc, Selection, Selector, SelectorSettings};
+use acuity::{BudgetRule, FrameInput, ObjectDesc, ObjectId, Selection, Selector, SelectorSettings};
 use common::{display, four_lod_profile, frame_at, lods, random_scene};
 use glam::{DVec3, Quat};
 
@@ -115,6 +115,29 @@ fn two_lod_profile(triangles: [u32; 2], freq_cdiam: f32) -> acuity::Profile {
     p
 }
 
+/// Two objects side by side at the same distance (the same acuity, the
+/// same critical frequency, both visible at `s = 1`): one whose step
+/// saves 3000 triangles (4000 to 1000), one whose step saves 40 (100 to
+/// 60).
+fn big_and_small_saver(settings: SelectorSettings) -> (Selector, ObjectId, ObjectId) {
+    let mut sel = Selector::new(display(), settings);
+    let big = sel
+        .add_profile(&two_lod_profile([4000, 1000], 60.0))
+        .unwrap();
+    let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
+    let mut add = |x: f64, profile| {
+        sel.add_object(ObjectDesc {
+            center: DVec3::new(x, 0.0, -10.0),
+            radius: 1.0,
+            rotation: Quat::IDENTITY,
+            profile,
+        })
+        .unwrap()
+    };
+    let (a, b) = (add(-1.5, big), add(1.5, small));
+    (sel, a, b)
+}
+
 #[test]
 fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_saves_40_at_the_same_visibility()
  {
@@ -127,23 +150,7 @@ fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_save
             budget_rule: rule,
             ..SelectorSettings::default()
         };
-        let mut sel = Selector::new(display(), settings);
-        let big = sel
-            .add_profile(&two_lod_profile([4000, 1000], 60.0))
-            .unwrap();
-        let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
-        // Side by side at the same distance: the same acuity, the same
-        // critical frequency, both visible at s = 1.
-        let mut add = |x: f64, profile| {
-            sel.add_object(ObjectDesc {
-                center: DVec3::new(x, 0.0, -10.0),
-                radius: 1.0,
-                rotation: Quat::IDENTITY,
-                profile,
-            })
-            .unwrap()
-        };
-        let (a, b) = (add(-1.5, big), add(1.5, small));
+        let (mut sel, a, b) = big_and_small_saver(settings);
         let frame = frame_at(DVec3::ZERO, 0.016);
         sel.select(&frame).unwrap();
         assert_eq!(
@@ -340,21 +347,7 @@ fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_hel
             switch_min_dwell_s: dwell_s,
             ..SelectorSettings::default()
         };
-        let mut sel = Selector::new(display(), settings);
-        let big = sel
-            .add_profile(&two_lod_profile([4000, 1000], 60.0))
-            .unwrap();
-        let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
-        let mut add = |x: f64, profile| {
-            sel.add_object(ObjectDesc {
-                center: DVec3::new(x, 0.0, -10.0),
-                radius: 1.0,
-                rotation: Quat::IDENTITY,
-                profile,
-            })
-            .unwrap()
-        };
-        let (a, _) = (add(-1.5, big), add(1.5, small));
+        let (mut sel, a, _) = big_and_small_saver(settings);
         let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
         let mut lod_within = |budget: u64| {
             let out = sel.select_within_budget(&frame, budget).unwrap();

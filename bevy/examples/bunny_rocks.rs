@@ -26,7 +26,12 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
+// The runtime's examples' stand-in profile (`demo_profile` and `finish`
+// are not used here).
+#[allow(dead_code)]
+#[path = "../../examples/common/mod.rs"]
+mod common;
+
 use bevy::asset::RenderAssetUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::mesh::{Indices, PrimitiveTopology};
@@ -36,6 +41,7 @@ use bevy_acuity::{
     AcuityLod, AcuityPlugin, AcuityProfile, AcuityScheduler, AcuitySettings, AcuityStats,
     LodLevels, SelectedLod,
 };
+use common::stand_in_profile;
 
 /// The command line.
 #[derive(Resource, Clone, Debug, Default)]
@@ -110,34 +116,6 @@ fn main() -> AppExit {
         .add_systems(Update, (keys, fly, title, screenshot))
         .add_systems(PostUpdate, colour_lods.after(bevy_acuity::AcuitySystems))
         .run()
-}
-
-/// A stand-in profile (as `examples/common/mod.rs` builds one): each
-/// transition removes one feature of half the frequency of the one before.
-fn stand_in_profile(name: &str, bounding_radius: f32, lod_triangles: Vec<u32>) -> acuity::Profile {
-    let transitions = (0..lod_triangles.len() - 1)
-        .map(|t| TransitionFeatures {
-            feature_count: 1,
-            features: vec![Feature {
-                freq_cdiam: 200.0 / (1 << t) as f32,
-                area_diam2: 0.01,
-                luminance: [0.2, 0.5],
-                masker: [0.2, 0.5],
-                count: 1,
-            }],
-        })
-        .collect();
-    acuity::Profile {
-        format_version: PROFILE_FORMAT_VERSION,
-        name: name.into(),
-        lod_triangles,
-        bounding_radius,
-        viewpoints: vec![[0.0, 0.0, 1.0]],
-        rung_diameters_px: vec![256.0],
-        transitions,
-        settings: Default::default(),
-        inputs: vec![],
-    }
 }
 
 /// The OBJ's positions and triangles (`v` and `f` lines; polygons fanned).

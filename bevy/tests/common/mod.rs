@@ -6,8 +6,6 @@
 
 use std::time::Duration;
 
-use acuity::Profile;
-use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::{PrimaryWindow, WindowResolution};
@@ -16,35 +14,12 @@ use bevy_acuity::{AcuityLod, AcuityPlugin, AcuityProfile, AcuitySettings};
 /// The frame time of every test frame, s.
 pub const FRAME_S: f64 = 1.0 / 60.0;
 
-/// A stand-in for a profile from `acuity preprocess` (as
-/// `examples/common/mod.rs` builds it): 4 LODs of 4000 to 60 triangles,
-/// bounding radius 1, each transition removing one feature of half the
-/// frequency of the one before.
-pub fn demo_profile() -> Profile {
-    let transitions = (0..3)
-        .map(|t| TransitionFeatures {
-            feature_count: 1,
-            features: vec![Feature {
-                freq_cdiam: 200.0 / (1 << t) as f32,
-                area_diam2: 0.01,
-                luminance: [0.2, 0.5],
-                masker: [0.2, 0.5],
-                count: 1,
-            }],
-        })
-        .collect();
-    Profile {
-        format_version: PROFILE_FORMAT_VERSION,
-        name: "rock".into(),
-        lod_triangles: vec![4000, 1000, 250, 60],
-        bounding_radius: 1.0,
-        viewpoints: vec![[0.0, 0.0, 1.0]],
-        rung_diameters_px: vec![256.0],
-        transitions,
-        settings: Default::default(),
-        inputs: vec![],
-    }
-}
+/// The examples' stand-in profile: 4 LODs of 4000 to 60 triangles,
+/// bounding radius 1.
+#[path = "../../../examples/common/mod.rs"]
+mod examples_common;
+#[allow(unused_imports)]
+pub use examples_common::demo_profile;
 
 /// A headless app with the plugin, a 1920x1080 primary window (the
 /// component only) and 60 Hz frames; fades off unless `fade_time_s > 0`.

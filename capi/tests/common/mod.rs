@@ -5,36 +5,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use acuity::Profile;
-use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, TransitionFeatures};
-
 /// `examples/common`'s `demo_profile`: 4 LODs of 4000 to 60 triangles, one
 /// viewpoint, one size rung (also embedded as JSON in `minimal.c`).
-pub fn demo_profile() -> Profile {
-    let transitions = (0..3)
-        .map(|t| TransitionFeatures {
-            feature_count: 1,
-            features: vec![Feature {
-                freq_cdiam: 200.0 / (1 << t) as f32,
-                area_diam2: 0.01,
-                luminance: [0.2, 0.5],
-                masker: [0.2, 0.5],
-                count: 1,
-            }],
-        })
-        .collect();
-    Profile {
-        format_version: PROFILE_FORMAT_VERSION,
-        name: "rock".into(),
-        lod_triangles: vec![4000, 1000, 250, 60],
-        bounding_radius: 1.0,
-        viewpoints: vec![[0.0, 0.0, 1.0]],
-        rung_diameters_px: vec![256.0],
-        transitions,
-        settings: Default::default(),
-        inputs: vec![],
-    }
-}
+#[path = "../../../examples/common/mod.rs"]
+mod examples_common;
+#[allow(unused_imports)]
+pub use examples_common::demo_profile;
 
 /// The C compiler: `$CC`, else `cc`. `None` (after printing why) when
 /// there is none and `ACUITY_SKIP_C=1` says that is fine; a panic with a
