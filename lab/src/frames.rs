@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use acuity::display::projection_columns;
-use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions, input_hashes};
+use acuity_preprocess::pipeline::{AnalysisSettings, RunOptions};
 use acuity_render::{
     DitherMask, Lighting, MeshId, RenderOutput, RenderRequest, Renderer, RendererOptions,
 };
@@ -22,7 +22,9 @@ use crate::crossfade::FadeOut;
 use crate::limits::check_scene_triangles;
 use crate::placement::Placement;
 use crate::profiles::object_source;
-use crate::profiles::{CacheOutcome, check_distinct_cache_paths, ensure_profile, given_profile};
+use crate::profiles::{
+    CacheOutcome, check_distinct_cache_paths, ensure_profile, given_profile, input_key,
+};
 use crate::scene::{ProfileSpec, Scene};
 use acuity::{Camera, Display, Gaze, Profile, Tracker};
 
@@ -291,11 +293,7 @@ impl World {
             scene.objects.iter().zip(&sources).zip(uploaded)
         {
             let what = || format!("object `{}`: making its profile", spec.name);
-            let key: Vec<String> = input_hashes(source, &options.settings)
-                .with_context(what)?
-                .into_iter()
-                .map(|h| h.hash_hex)
-                .collect();
+            let key = input_key(source, &options.settings).with_context(what)?;
             let (profile, cache) = if let Some(path) = &spec.profile {
                 let profile = given_profile(source, path)
                     .with_context(|| format!("object `{}`: its profile", spec.name))?;
@@ -306,6 +304,7 @@ impl World {
                 ensure_profile(
                     &renderer,
                     source,
+                    &key,
                     &options.settings,
                     &cache_dir,
                     &RunOptions::default(),

@@ -298,21 +298,21 @@ impl Outcome {
     }
 }
 
-/// What makes two objects' profiles the same: their inputs' content
-/// hashes (files, generation parameters) and the analysis settings.
-fn same_inputs_key(source: &ObjectSource, settings: &AnalysisSettings) -> Option<Vec<String>> {
-    let hashes = acuity_preprocess::pipeline::input_hashes(source, settings).ok()?;
-    Some(hashes.into_iter().map(|h| h.hash_hex).collect())
-}
-
 /// `profile`, made for another object of the same inputs and settings,
-/// named and saved as `job`'s cached profile.
-fn share_profile(profile: &Profile, job: &Job, out_dir: &Path) -> anyhow::Result<Profile> {
-    let mut shared = profile.clone();
-    shared.name = job.name.clone();
-    std::fs::create_dir_all(out_dir)?;
-    shared.save(profiles::cache_path(out_dir, &job.source))?;
-    Ok(shared)
+/// named and saved as `job`'s cached profile: [`Outcome::Shared`], or the
+/// failure to save it.
+fn share_profile(profile: &Profile, job: &Job, out_dir: &Path) -> Outcome {
+    let save = || -> anyhow::Result<Profile> {
+        let mut shared = profile.clone();
+        shared.name = job.name.clone();
+        std::fs::create_dir_all(out_dir)?;
+        shared.save(profiles::cache_path(out_dir, &job.source))?;
+        Ok(shared)
+    };
+    match save() {
+        Ok(p) => Outcome::Shared(p),
+        Err(e) => Outcome::Failed(crate::error::error_line(&e)),
+    }
 }
 
 /// One row of the final table.
@@ -389,17 +389,19 @@ fn process(
     out_dir: &Path,
 ) -> Vec<Row> {
     let analyse_all = args.force || args.inspect.is_some();
-    // Objects with the same inputs and settings (one mesh under two names)
-    // share one analysis: each made profile by its key, the object's index.
-    let keys: Vec<Option<Vec<String>>> = jobs
+    // Each object's inputs hashed once: for the cache and to find objects
+    // with the same inputs and settings (one mesh under two names), which
+    // share one analysis. `made`: the objects whose profile is made.
+    let keys: Vec<anyhow::Result<Vec<String>>> = jobs
         .iter()
-        .map(|j| same_inputs_key(&j.source, settings))
+        .map(|j| profiles::input_key(&j.source, settings))
         .collect();
     let mut made: Vec<usize> = Vec::new();
     let made_alike = |made: &[usize], i: usize| {
+        let key = keys[i].as_ref().ok()?;
         made.iter()
             .copied()
-            .find(|&k| keys[i].is_some() && keys[k] == keys[i])
+            .find(|&k| keys[k].as_ref().is_ok_and(|other| other == key))
     };
     // First pass, hashing only: which objects are cached, or share a
     // cached object's profile.
@@ -419,7 +421,10 @@ fn process(
             to_analyse.push(i);
             continue;
         }
-        match profiles::cached_profile(&j.source, settings, out_dir) {
+        let cached = keys[i]
+            .as_ref()
+            .map(|key| profiles::cached_profile(&j.source, key, settings, out_dir));
+        match cached {
             Ok(Some(p)) => {
                 made.push(i);
                 rows.push(row(Outcome::Cached(p)));
@@ -428,7 +433,7 @@ fn process(
                 rows.push(None);
                 to_analyse.push(i);
             }
-            Err(e) => rows.push(row(Outcome::Failed(crate::error::error_line(&e)))),
+            Err(e) => rows.push(row(Outcome::Failed(crate::error::error_line(e)))),
         }
     }
     // Objects left to analyse that a cached object's profile serves.
@@ -437,12 +442,10 @@ fn process(
             return true;
         };
         let t0 = Instant::now();
-        let profile = rows[k].as_ref().and_then(|r| r.outcome.profile());
-        let outcome = match profile.map(|p| share_profile(p, &jobs[i], out_dir)) {
-            Some(Ok(p)) => Outcome::Shared(p),
-            Some(Err(e)) => Outcome::Failed(crate::error::error_line(&e)),
-            None => return true,
+        let Some(profile) = rows[k].as_ref().and_then(|r| r.outcome.profile()) else {
+            return true;
         };
+        let outcome = share_profile(profile, &jobs[i], out_dir);
         rows[i] = Some(Row {
             name: jobs[i].name.clone(),
             outcome,
@@ -499,10 +502,7 @@ fn process(
         if let Some(k) = made_alike(&made, i)
             && let Some(p) = rows[k].as_ref().and_then(|r| r.outcome.profile())
         {
-            let outcome = match share_profile(p, j, out_dir) {
-                Ok(p) => Outcome::Shared(p),
-                Err(e) => Outcome::Failed(crate::error::error_line(&e)),
-            };
+            let outcome = share_profile(p, j, out_dir);
             bar.suspend(|| match &outcome {
                 Outcome::Failed(e) => eprintln!("error: object `{}`: {e}", j.name),
                 _ => println!(

@@ -130,25 +130,46 @@ pub enum CacheState {
     Unusable(String),
 }
 
+/// What makes two objects' profiles the same, and a cached one fresh: the
+/// content hashes (hex) of the object's inputs (files, generation
+/// parameters) under `settings`, in order, whatever the paths they were
+/// read from. Hashing reads the inputs (an unreadable input file is an
+/// error) but renders nothing.
+pub fn input_key(
+    object: &ObjectSource,
+    settings: &AnalysisSettings,
+) -> anyhow::Result<Vec<String>> {
+    let hashes = pipeline::input_hashes(object, settings)?;
+    Ok(hashes.into_iter().map(|h| h.hash_hex).collect())
+}
+
 /// What `cache_dir` holds for `object` under `settings`: a profile is
-/// fresh when the content hashes of its inputs (files, generation
-/// parameters) and its settings equal the current ones, whatever the paths
-/// they were read from. Hashing reads the inputs (an unreadable input file
-/// is an error) but renders nothing.
+/// fresh when the content hashes of its inputs ([`input_key`]) and its
+/// settings equal the current ones.
 pub fn cache_state(
     object: &ObjectSource,
     settings: &AnalysisSettings,
     cache_dir: &Path,
 ) -> anyhow::Result<CacheState> {
-    let hashes = pipeline::input_hashes(object, settings)?;
+    let key = input_key(object, settings)?;
+    Ok(cache_state_of(object, &key, settings, cache_dir))
+}
+
+/// [`cache_state`] for an object whose [`input_key`] is `key`.
+fn cache_state_of(
+    object: &ObjectSource,
+    key: &[String],
+    settings: &AnalysisSettings,
+    cache_dir: &Path,
+) -> CacheState {
     let path = cache_path(cache_dir, object);
     let cached = match Profile::load(&path) {
         Ok(p) => p,
         Err(e) => {
-            return Ok(match unusable(&e, &path) {
+            return match unusable(&e, &path) {
                 Some(why) => CacheState::Unusable(why),
                 None => CacheState::Missing,
-            });
+            };
         }
     };
     let inputs: Vec<&InputHash> = cached
@@ -159,40 +180,37 @@ pub fn cache_state(
     // Contents, not names: the recorded `what` (a path as it was spelled,
     // relative to wherever the command ran) is for humans, so the same
     // bytes hit the same profile from any folder, spelling or checkout.
-    let same = inputs.len() == hashes.len()
-        && inputs
-            .iter()
-            .zip(&hashes)
-            .all(|(a, b)| a.hash_hex == b.hash_hex);
-    Ok(if same && cached.settings == settings_record(settings) {
+    let same = inputs.len() == key.len() && inputs.iter().zip(key).all(|(a, b)| a.hash_hex == *b);
+    if same && cached.settings == settings_record(settings) {
         CacheState::Fresh(cached)
     } else {
         CacheState::Stale
-    })
+    }
 }
 
-/// The cached profile of an object, when `cache_dir` holds one whose
-/// recorded input hashes (files, generation parameters, settings) and
-/// settings equal the current ones ([`cache_state`]); `None` when there is
-/// none, it is unusable, or anything changed. An unusable one is reported
-/// on stderr as a warning line, since the caller analyses the object again
-/// and replaces it.
+/// The cached profile of an object whose [`input_key`] is `key`, when
+/// `cache_dir` holds one whose recorded input hashes and settings equal
+/// the current ones ([`cache_state`]); `None` when there is none, it is
+/// unusable, or anything changed. An unusable one is reported on stderr as
+/// a warning line, since the caller analyses the object again and replaces
+/// it.
 pub fn cached_profile(
     object: &ObjectSource,
+    key: &[String],
     settings: &AnalysisSettings,
     cache_dir: &Path,
-) -> anyhow::Result<Option<Profile>> {
-    match cache_state(object, settings, cache_dir)? {
-        CacheState::Fresh(p) => Ok(Some(p)),
+) -> Option<Profile> {
+    match cache_state_of(object, key, settings, cache_dir) {
+        CacheState::Fresh(p) => Some(p),
         CacheState::Unusable(why) => {
             eprintln!(
                 "warning: {}: cached profile {why}; analysing `{}` again to replace it",
                 cache_path(cache_dir, object).display(),
                 object.name()
             );
-            Ok(None)
+            None
         }
-        CacheState::Missing | CacheState::Stale => Ok(None),
+        CacheState::Missing | CacheState::Stale => None,
     }
 }
 
@@ -242,19 +260,20 @@ pub fn analyse_to_cache(
     Ok((profile, analysis.warnings))
 }
 
-/// The profile of an object: from `cache_dir` when its recorded input
-/// hashes (which cover the files, the generation parameters and the
-/// settings) equal the current ones ([`cached_profile`]), else analysed
-/// with `renderer` and written there ([`analyse_to_cache`]). Hashing reads
-/// the inputs but renders nothing.
+/// The profile of an object whose [`input_key`] is `key`: from
+/// `cache_dir` when its recorded input hashes (which cover the files, the
+/// generation parameters and the settings) equal the current ones
+/// ([`cached_profile`]), else analysed with `renderer` and written there
+/// ([`analyse_to_cache`]).
 pub fn ensure_profile(
     renderer: &Renderer,
     object: &ObjectSource,
+    key: &[String],
     settings: &AnalysisSettings,
     cache_dir: &Path,
     run: &RunOptions<'_>,
 ) -> anyhow::Result<(Profile, CacheOutcome)> {
-    if let Some(cached) = cached_profile(object, settings, cache_dir)? {
+    if let Some(cached) = cached_profile(object, key, settings, cache_dir) {
         return Ok((cached, CacheOutcome::Cached));
     }
     let (profile, _warnings) = analyse_to_cache(renderer, object, settings, cache_dir, run)?;
