@@ -19,6 +19,9 @@
 //! 1e6) select within a triangle budget of half the triangles the poses
 //! draw at `s = 1` ([`Selector::select_within_budget`]), by each
 //! [`BudgetRule`]: the loop plus the budget's own work.
+//! `single_thread_budgeted_scale` (1e5 and 1e6) selects at `s = 0.5` with
+//! [`ScaleRule::Budgeted`]: the triangles that `s` draws, spent best
+//! effort (at `s = 1` it is the plain loop).
 //!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
@@ -27,7 +30,7 @@
 mod common;
 
 use acuity::{
-    BudgetRule, Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selector,
+    BudgetRule, Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, ScaleRule, Selector,
     SelectorSettings, SimdLevel, Tracker,
 };
 use common::{Rng, four_lod_profile};
@@ -49,6 +52,8 @@ enum Extras {
     Adjusted,
     /// Selection within half the triangles drawn at `s = 1`, by a rule.
     Budget(BudgetRule),
+    /// Selection at `s = 0.5` spent as a budget.
+    BudgetedScale,
 }
 
 fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
@@ -62,6 +67,11 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
         budget_rule: match extras {
             Extras::Budget(rule) => rule,
             _ => BudgetRule::default(),
+        },
+        scale_rule: if extras == Extras::BudgetedScale {
+            ScaleRule::Budgeted
+        } else {
+            ScaleRule::Uniform
         },
         ..Default::default()
     };
@@ -167,10 +177,16 @@ fn bench_select(c: &mut Criterion) {
                 SimdLevel::Widest,
                 Extras::Budget(BudgetRule::UniformScale),
             ),
+            (
+                "single_thread_budgeted_scale",
+                false,
+                SimdLevel::Widest,
+                Extras::BudgetedScale,
+            ),
         ] {
             let wanted = match extras {
                 Extras::None => true,
-                Extras::Tracked | Extras::Budget(_) => n >= 100_000,
+                Extras::Tracked | Extras::Budget(_) | Extras::BudgetedScale => n >= 100_000,
                 Extras::Adjusted => n == 100_000,
             };
             if !wanted {
@@ -192,12 +208,21 @@ fn bench_select(c: &mut Criterion) {
                 visible as f64 / (POSES * n) as f64
             );
             let budget = triangles / (2 * POSES as u64);
+            let halved = frames.map(|f| FrameInput { scale: 0.5, ..f });
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
-                b.iter(|| {
-                    for frame in &frames {
-                        if let Extras::Budget(_) = extras {
+                b.iter(|| match extras {
+                    Extras::Budget(_) => {
+                        for frame in &frames {
                             sel.select_within_budget(frame, budget).unwrap();
-                        } else {
+                        }
+                    }
+                    Extras::BudgetedScale => {
+                        for frame in &halved {
+                            sel.select(frame).unwrap();
+                        }
+                    }
+                    _ => {
+                        for frame in &frames {
                             sel.select(frame).unwrap();
                         }
                     }

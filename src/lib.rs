@@ -53,7 +53,8 @@ pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
     BudgetOutcome, BudgetRule, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
-    SACCADE_THRESHOLD_DEG_PER_S, Selection, Selector, SelectorSettings, SimdLevel, ViewpointRule,
+    SACCADE_THRESHOLD_DEG_PER_S, ScaleRule, Selection, Selector, SelectorSettings, SimdLevel,
+    ViewpointRule,
 };
 pub use crate::stereo::{Eye, StereoRig};
 
@@ -96,7 +97,7 @@ pub mod prelude {
     pub use crate::glam::{DQuat, DVec3, Quat, Vec3};
     pub use crate::{
         BudgetRule, Camera, Display, Error, FrameInput, Gaze, ObjectDesc, ObjectId, Profile,
-        ProfileId, Result, Selection, Selector, SelectorSettings, Tracker,
+        ProfileId, Result, ScaleRule, Selection, Selector, SelectorSettings, Tracker,
     };
 }
 

@@ -1,9 +1,12 @@
 //! Selection under a triangle budget (best effort and one uniform `s`),
-//! and the selector's hysteresis and minimum dwell on switches.
+//! `s < 1` spent as a budget ([`ScaleRule::Budgeted`]), and the selector's
+//! hysteresis and minimum dwell on switches.
 
 mod common;
 
-use acuity::{BudgetRule, FrameInput, ObjectDesc, ObjectId, Selection, Selector, SelectorSettings};
+use acuity::{
+    BudgetRule, FrameInput, ObjectDesc, ObjectId, ScaleRule, Selection, Selector, SelectorSettings,
+};
 use common::{display, four_lod_profile, frame_at, lods, random_scene};
 use glam::{DVec3, Quat};
 
@@ -115,16 +118,21 @@ fn two_lod_profile(triangles: [u32; 2], freq_cdiam: f32) -> acuity::Profile {
     p
 }
 
-/// Two objects side by side at the same distance (the same acuity, the
-/// same critical frequency, both visible at `s = 1`): one whose step
-/// saves 3000 triangles (4000 to 1000), one whose step saves 40 (100 to
-/// 60).
-fn big_and_small_saver(settings: SelectorSettings) -> (Selector, ObjectId, ObjectId) {
+/// Two objects side by side at the same distance (the same acuity, both
+/// visible at `s = 1`): one whose step saves 3000 triangles (4000 to
+/// 1000) at a critical frequency of 60 c/diam, one whose step saves 40
+/// (100 to 60) at `small_freq_cdiam`.
+fn big_and_small_saver(
+    settings: SelectorSettings,
+    small_freq_cdiam: f32,
+) -> (Selector, ObjectId, ObjectId) {
     let mut sel = Selector::new(display(), settings);
     let big = sel
         .add_profile(&two_lod_profile([4000, 1000], 60.0))
         .unwrap();
-    let small = sel.add_profile(&two_lod_profile([100, 60], 60.0)).unwrap();
+    let small = sel
+        .add_profile(&two_lod_profile([100, 60], small_freq_cdiam))
+        .unwrap();
     let mut add = |x: f64, profile| {
         sel.add_object(ObjectDesc {
             center: DVec3::new(x, 0.0, -10.0),
@@ -150,7 +158,7 @@ fn best_effort_drops_the_step_that_saves_3000_triangles_before_the_one_that_save
             budget_rule: rule,
             ..SelectorSettings::default()
         };
-        let (mut sel, a, b) = big_and_small_saver(settings);
+        let (mut sel, a, b) = big_and_small_saver(settings, 60.0);
         let frame = frame_at(DVec3::ZERO, 0.016);
         sel.select(&frame).unwrap();
         assert_eq!(
@@ -347,7 +355,7 @@ fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_hel
             switch_min_dwell_s: dwell_s,
             ..SelectorSettings::default()
         };
-        let (mut sel, a, _) = big_and_small_saver(settings);
+        let (mut sel, a, _) = big_and_small_saver(settings, 60.0);
         let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
         let mut lod_within = |budget: u64| {
             let out = sel.select_within_budget(&frame, budget).unwrap();
@@ -368,4 +376,133 @@ fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_hel
         }
         assert_eq!(lod_within(10_000), Some(0), "still held 4/15 s after");
     }
+}
+
+fn budgeted_scale() -> SelectorSettings {
+    SelectorSettings {
+        scale_rule: ScaleRule::Budgeted,
+        ..SelectorSettings::default()
+    }
+}
+
+#[test]
+fn a_budgeted_scale_chooses_as_the_uniform_one_at_s_1_and_never_draws_more_below() {
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    let (mut uniform, ids) = random_scene(SelectorSettings::default(), 3000, 5, DVec3::ZERO);
+    let (mut budgeted, _) = random_scene(budgeted_scale(), 3000, 5, DVec3::ZERO);
+    let mut fewer = 0;
+    for scale in [1.0, 0.8, 0.5, 0.3, 0.1] {
+        let frame = with_scale(frame, scale);
+        uniform.select(&frame).unwrap();
+        budgeted.select(&frame).unwrap();
+        if scale == 1.0 {
+            assert_eq!(lods(&budgeted, &ids), lods(&uniform, &ids));
+            continue;
+        }
+        let (b, u) = (budgeted.triangles(), uniform.triangles());
+        assert!(b <= u, "s = {scale}: {b} triangles against uniform {u}");
+        fewer += usize::from(b < u || lods(&budgeted, &ids) != lods(&uniform, &ids));
+    }
+    assert!(fewer > 0, "the budgeted rule never chose other LODs");
+}
+
+#[test]
+fn a_budgeted_scale_drops_the_big_saver_where_the_uniform_one_drops_the_small_one() {
+    // The small saver's step is a little less visible (a higher critical
+    // frequency), so one `s` drops it first; spent as a budget, the
+    // triangles that `s` draws go to the step that saves 3000.
+    let choose = |scale_rule| {
+        let settings = SelectorSettings {
+            scale_rule,
+            ..SelectorSettings::default()
+        };
+        big_and_small_saver(settings, 66.0)
+    };
+    let (mut uniform, a, b) = choose(ScaleRule::Uniform);
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    let lods_at = |sel: &mut Selector, scale| {
+        sel.select(&with_scale(frame, scale)).unwrap();
+        (sel.selection(a).lod(), sel.selection(b).lod())
+    };
+    assert_eq!(lods_at(&mut uniform, 1.0), (Some(0), Some(0)));
+    let scale = (1..400)
+        .map(|i| 0.99f32.powi(i))
+        .find(|&s| lods_at(&mut uniform, s) == (Some(0), Some(1)))
+        .expect("an s at which one s drops only the small saver");
+    let (mut budgeted, ..) = choose(ScaleRule::Budgeted);
+    assert_eq!(
+        lods_at(&mut budgeted, scale),
+        (Some(1), Some(0)),
+        "s = {scale}"
+    );
+    assert!(budgeted.triangles() <= uniform.triangles());
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 64, failure_persistence: None, ..Default::default() })]
+
+    #[test]
+    fn a_budgeted_scale_refuses_what_the_uniform_one_refuses_and_never_draws_more(
+        seed in 0u64..1000,
+        scale in proptest::prop_oneof![
+            4 => 1e-6f32..1.0,
+            1 => proptest::num::f32::ANY,
+            1 => proptest::strategy::Just(f32::MIN_POSITIVE),
+        ],
+    ) {
+        let frame = with_scale(frame_at(DVec3::ZERO, 0.016), scale);
+        let (mut uniform, _) = random_scene(SelectorSettings::default(), 300, seed, DVec3::ZERO);
+        let (mut budgeted, _) = random_scene(budgeted_scale(), 300, seed, DVec3::ZERO);
+        let (u, b) = (uniform.select(&frame), budgeted.select(&frame));
+        proptest::prop_assert_eq!(u.is_ok(), b.is_ok(), "s = {}", scale);
+        if u.is_ok() {
+            proptest::prop_assert!(budgeted.triangles() <= uniform.triangles(), "s = {}", scale);
+        }
+    }
+}
+
+#[test]
+fn a_budgeted_scale_that_moves_never_switches_an_object_back_within_its_dwell_time() {
+    // `s` jumps between four values every 7 frames while the camera turns
+    // and advances, so the budget from `s` rises and falls; an object that
+    // switched keeps its LOD for the dwell time whichever way the budget
+    // moves, so none goes back to the LOD it left within it.
+    let dwell_s = 0.3;
+    let settings = SelectorSettings {
+        scale_rule: ScaleRule::Budgeted,
+        switch_hysteresis: 0.15,
+        switch_min_dwell_s: dwell_s,
+        ..SelectorSettings::default()
+    };
+    let (mut sel, ids) = random_scene(settings, 400, 3, DVec3::ZERO);
+    let dt_s = 1.0 / 36.0;
+    // Per object: the time of its last switch and the LOD it left.
+    let mut last: Vec<Option<(f32, usize)>> = vec![None; ids.len()];
+    let mut before = vec![None; ids.len()];
+    let (mut switches, mut reversals) = (0, 0);
+    for f in 0..400 {
+        let t_s = f as f32 * dt_s;
+        let mut frame = frame_at(DVec3::new(0.0, 0.0, -0.05 * f as f64), dt_s);
+        frame.camera.orientation = Quat::from_rotation_y(0.5 * (2.0 * t_s).sin());
+        frame.scale = [0.013, 0.016, 0.02, 0.015][(f / 7) % 4];
+        sel.select(&frame).unwrap();
+        for (i, &id) in ids.iter().enumerate() {
+            let now = sel.selection(id).lod();
+            if let (Some(b), Some(n)) = (before[i], now)
+                && b != n
+            {
+                switches += 1;
+                if last[i].is_some_and(|(at, left)| left == n && t_s - at < dwell_s) {
+                    reversals += 1;
+                }
+                last[i] = Some((t_s, b));
+            }
+            before[i] = now;
+        }
+    }
+    assert!(
+        switches > 20,
+        "{switches} switches: the budget did not move"
+    );
+    assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
 }

@@ -218,6 +218,14 @@ typedef struct AcuitySettings {
      * Non-zero: cull objects outside the view frustum. Default 1.
      */
     uint32_t cull;
+    /**
+     * Non-zero: a scale factor `s < 1` sets how many triangles are drawn
+     * (as many as one `s` for every object would draw) and they are
+     * spent where the predicted visibility per triangle saved is lowest
+     * (the runtime's `ScaleRule::Budgeted`; a budgeted selection per
+     * frame while `s < 1`). Default 0: every object judged at `s`.
+     */
+    uint32_t budgeted_scale;
 } AcuitySettings;
 
 /**

@@ -103,6 +103,12 @@ pub struct AcuitySettings {
     pub track_changes: u32,
     /// Non-zero: cull objects outside the view frustum. Default 1.
     pub cull: u32,
+    /// Non-zero: a scale factor `s < 1` sets how many triangles are drawn
+    /// (as many as one `s` for every object would draw) and they are
+    /// spent where the predicted visibility per triangle saved is lowest
+    /// (the runtime's `ScaleRule::Budgeted`; a budgeted selection per
+    /// frame while `s < 1`). Default 0: every object judged at `s`.
+    pub budgeted_scale: u32,
 }
 
 /// An object to select LODs for.
@@ -243,6 +249,7 @@ impl Default for AcuitySettings {
             switch_min_dwell_s: d.switch_min_dwell_s,
             track_changes: d.track_changes.into(),
             cull: d.cull.into(),
+            budgeted_scale: (d.scale_rule == acuity::ScaleRule::Budgeted).into(),
         }
     }
 }
@@ -291,6 +298,11 @@ impl AcuitySettings {
             )?,
             track_changes: self.track_changes != 0,
             cull: self.cull != 0,
+            scale_rule: if self.budgeted_scale != 0 {
+                acuity::ScaleRule::Budgeted
+            } else {
+                acuity::ScaleRule::Uniform
+            },
             ..acuity::SelectorSettings::default()
         })
     }

@@ -581,6 +581,41 @@ fn near_objects_get_finer_lods_than_far_ones() {
 }
 
 #[test]
+fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
+    let triangles_at = |budgeted_scale: u32, scale: f32| {
+        let settings = AcuitySettings {
+            budgeted_scale,
+            ..AcuitySettings::default()
+        };
+        let mut s = null_mut();
+        let mut stats = AcuityStats::default();
+        // SAFETY: live structs, selector and out-pointers throughout.
+        unsafe {
+            expect(acuity_selector_new(&DISPLAY, &settings, &mut s), ACUITY_OK);
+            let p = demo();
+            expect(acuity_selector_add_profile(s, p, &mut 0), ACUITY_OK);
+            expect(acuity_profile_free(p), ACUITY_OK);
+            for i in 0..40 {
+                let mut d = desc(-3.0 - 4.0 * f64::from(i));
+                d.center.x = f64::from(i % 7) - 3.0;
+                expect(acuity_selector_add_object(s, &d, &mut 0), ACUITY_OK);
+            }
+            expect(acuity_selector_set_scale(s, scale), ACUITY_OK);
+            expect(select(s, &AcuityFrame::default()), ACUITY_OK);
+            expect(acuity_selector_stats(s, &mut stats), ACUITY_OK);
+            acuity_selector_free(s);
+        }
+        stats.triangles
+    };
+    assert_eq!(triangles_at(1, 1.0), triangles_at(0, 1.0));
+    for scale in [0.5, 0.2, 0.05] {
+        let (budgeted, uniform) = (triangles_at(1, scale), triangles_at(0, scale));
+        assert!(budgeted <= uniform, "s = {scale}: {budgeted} > {uniform}");
+    }
+    assert!(triangles_at(1, 0.05) < triangles_at(1, 1.0));
+}
+
+#[test]
 fn fades_are_listed_with_handles() {
     let settings = AcuitySettings {
         fade_time_s: 0.5,

@@ -22,7 +22,7 @@ use crate::screen_size::{
 };
 use acuity::{
     BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, PredictiveScheduler,
-    ReactiveScheduler, ReactiveSettings, Selector, SelectorSettings,
+    ReactiveScheduler, ReactiveSettings, ScaleRule, Selector, SelectorSettings,
 };
 
 /// The model components a policy selects with; `None` for policies that do
@@ -47,6 +47,8 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityPredictiveUniform
         | Policy::AcuityPredictiveUnweighted
         | Policy::AcuityReactiveNoHeadroom
+        | Policy::AcuityReactiveBudgeted
+        | Policy::AcuityAllBudgeted
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
         | Policy::AcuityBestEffortUnweighted
@@ -60,9 +62,11 @@ pub fn components(policy: Policy) -> Option<Components> {
 pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = 0.15;
 
 /// The least time an object of those policies holds an LOD before it
-/// coarsens ([`SelectorSettings::switch_min_dwell_s`]), s: a quarter
-/// second, the window within which a switch back reads as flicker.
-pub const SCHEDULED_MIN_DWELL_S: f32 = 0.25;
+/// coarsens ([`SelectorSettings::switch_min_dwell_s`]), s: longer than the
+/// quarter second within which a switch back reads as flicker (the
+/// reversal counter's window), so that a switch the dwell rule holds back
+/// never lands on that window's edge.
+pub const SCHEDULED_MIN_DWELL_S: f32 = 0.3;
 
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -146,6 +150,14 @@ impl PolicyRunner {
             } else {
                 BudgetRule::BestEffort
             },
+            scale_rule: if matches!(
+                policy,
+                Policy::AcuityAllBudgeted | Policy::AcuityReactiveBudgeted
+            ) {
+                ScaleRule::Budgeted
+            } else {
+                ScaleRule::Uniform
+            },
             budget_hysteresis: if policy == Policy::AcuityPredictiveNoHeadroom {
                 0.0
             } else {
@@ -211,7 +223,9 @@ impl PolicyRunner {
         let scale = (run.scale_factor as f32).clamp(MIN_SCALE, 1.0);
         let tuned = || ReactiveSettings::for_rate_hz(run.target_hz as f32);
         let scheduler = match policy {
-            Policy::AcuityReactive | Policy::ScreenSizeReactive => Some(Scheduler::Reactive(
+            Policy::AcuityReactive
+            | Policy::AcuityReactiveBudgeted
+            | Policy::ScreenSizeReactive => Some(Scheduler::Reactive(
                 ReactiveScheduler::new(tuned()?),
                 Some(cost),
             )),

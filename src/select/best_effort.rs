@@ -42,7 +42,9 @@
 //! until the dwell time has passed (the greedy starts from last frame's LOD
 //! where that is coarser than the one at the frame's `s`): under a budget
 //! that moves, the coarsening it forced and the refinement that would undo
-//! it a few frames later are what reads as flicker.
+//! it a few frames later are what reads as flicker. With the budget a
+//! scale factor sets ([`ScaleRule::Budgeted`](super::ScaleRule::Budgeted)),
+//! a soft target, such a step is never taken (`strict_dwell`).
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
@@ -103,15 +105,16 @@ impl Selector {
     /// Chooses the LODs of every visible object with more than one LOD
     /// (writing their selections, before LOD ranges are applied) so that
     /// the triangles fit `triangle_budget` where the steps allowed reach
-    /// it, cheapest step first (see the module docs). Returns the scale
-    /// reached and the triangles drawn (LOD ranges counted).
+    /// it, cheapest step first (see the module docs), taking no step that
+    /// needs `s` below `s_min` (in `(0, s_max]`). Returns the scale reached
+    /// and the triangles drawn (LOD ranges counted).
     pub(super) fn best_effort_within(
         &mut self,
-        s_max: f32,
+        [s_min, s_max]: [f32; 2],
         triangle_budget: u64,
         weighted: bool,
+        strict_dwell: bool,
     ) -> (f32, u64) {
-        let s_min = self.settings.min_scale.clamp(1e-6, s_max);
         let multi = self.multi();
         // Per slot, its entry in `adjusted` (u32::MAX: none).
         let mut adjusted_of = std::mem::take(&mut self.adjusted_of);
@@ -151,10 +154,14 @@ impl Selector {
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
-            let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
+            let kept = self.kept_lod(slot);
+            let beyond = self.beyond_factor(slot, dwell_s, strict_dwell);
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
             while let Some(step) = next {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
+                if cost == f32::INFINITY {
+                    break;
+                }
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
             }
@@ -184,12 +191,15 @@ impl Selector {
                     let adjust = adjust_of(slot);
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
-                    let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
+                    let kept = self.kept_lod(slot);
+                    let beyond = self.beyond_factor(slot, dwell_s, strict_dwell);
                     let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
                     while let Some(step) = next {
                         cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
-                        let take = if below {
+                        let take = if cost == f32::INFINITY {
+                            false
+                        } else if below {
                             bin < threshold
                         } else {
                             bin == threshold && triangles > triangle_budget
@@ -217,13 +227,14 @@ impl Selector {
     }
 
     /// The cost factor of the steps beyond the LOD the object in `slot` had
-    /// last frame: [`DWELL_PENALTY`] when it switched less than `dwell_s`
-    /// ago, else 1.
-    fn beyond_factor(&self, slot: usize, dwell_s: f32) -> f32 {
-        if self.switched_within(slot, dwell_s) {
-            DWELL_PENALTY
-        } else {
-            1.0
+    /// last frame: when it switched less than `dwell_s` ago,
+    /// [`DWELL_PENALTY`], or infinity (never taken) with `strict_dwell`;
+    /// else 1.
+    fn beyond_factor(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> f32 {
+        match (self.switched_within(slot, dwell_s), strict_dwell) {
+            (false, _) => 1.0,
+            (true, false) => DWELL_PENALTY,
+            (true, true) => f32::INFINITY,
         }
     }
 

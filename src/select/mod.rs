@@ -184,6 +184,10 @@ pub struct SelectorSettings {
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
     pub budget_rule: BudgetRule,
+    /// How [`Selector::select`] lowers detail at `s < 1` (default:
+    /// [`ScaleRule::Uniform`], Reddy 1998's). At `s = 1` both rules choose
+    /// the same LODs.
+    pub scale_rule: ScaleRule,
     /// Under [`BudgetRule::BestEffort`], the fraction by which a step an
     /// object had already taken in the previous frame is cheaper than a new
     /// one, in `[0, 0.9]` (values outside are clamped; NaN is 0): objects
@@ -212,7 +216,9 @@ pub struct SelectorSettings {
     /// budget has room for the finer LOD it keeps, and an object does not
     /// switch back to a finer LOD before then either (under a budget that
     /// moves, undoing a coarsening a few frames later is flicker; holding
-    /// the coarser LOD only saves triangles). Under [`Selector::select`]
+    /// the coarser LOD only saves triangles). Under
+    /// [`ScaleRule::Budgeted`] at `s < 1` no switch happens before then,
+    /// whatever the budget needs. Under [`Selector::select`]
     /// switches to finer LODs happen at once, so there this only keeps
     /// detail: an object the view sweeps back and forth over a transition
     /// does not flicker between two LODs faster than this.
@@ -334,6 +340,7 @@ impl Default for SelectorSettings {
             parallel_min_objects: 32_768,
             min_scale: 0.01,
             budget_rule: BudgetRule::default(),
+            scale_rule: ScaleRule::default(),
             budget_hysteresis: 0.5,
             switch_hysteresis: 0.0,
             switch_min_dwell_s: 0.0,
@@ -374,6 +381,34 @@ pub enum BudgetRule {
     /// 1998's global scale): the least visible detail first, whatever it
     /// saves.
     UniformScale,
+}
+
+/// How [`Selector::select`] spends a global scale factor `s < 1`
+/// ([`SelectorSettings::scale_rule`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ScaleRule {
+    /// Every object is judged at `s H(v, E)` (Reddy 1998): the detail
+    /// closest to threshold goes first, whatever it saves. The plain loop's
+    /// cost per object.
+    #[default]
+    Uniform,
+    /// `s` sets how many triangles are drawn, where
+    /// [`SelectorSettings::budget_rule`] decides: the budget is the
+    /// triangles [`ScaleRule::Uniform`] would draw at this `s` (its LODs'
+    /// triangles, before switch hysteresis and waits for a saccade), spent
+    /// from the LODs at `s = 1` as [`Selector::select_within_budget`]
+    /// spends a budget (a step is taken whole, so the frame may draw fewer).
+    /// It draws more only where
+    /// [`SelectorSettings::switch_min_dwell_s`] holds an LOD: this budget
+    /// is a scheduler's soft target, so within the dwell time after a
+    /// switch an object keeps its LOD whichever way the budget moves (a
+    /// budget that rises and falls with `s` would otherwise refine an
+    /// object and coarsen it again a few frames later: flicker). With [`BudgetRule::BestEffort`] the objects that
+    /// save many triangles at a barely visible cost coarsen first, so a
+    /// scheduler that turns `s` spends its frame where it is seen. Costs a
+    /// budgeted selection per frame while `s < 1` (the plain loop at
+    /// `s = 1`).
+    Budgeted,
 }
 
 /// An object to select LODs for.

@@ -24,8 +24,17 @@ use super::store::{Block, BudgetEntry, MotionBlock};
 use super::tables::{CompiledProfile, Ladder, ProfileRows, RowLayout, Tables};
 use super::{
     BudgetOutcome, BudgetRule, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId,
-    SACCADE_THRESHOLD_DEG_PER_S, Selection, SelectorSettings, ViewpointRule,
+    SACCADE_THRESHOLD_DEG_PER_S, ScaleRule, Selection, SelectorSettings, ViewpointRule,
 };
+
+/// What a budgeted selection must fit.
+#[derive(Clone, Copy)]
+enum Budget {
+    /// A number of triangles.
+    Triangles(u64),
+    /// As many triangles as [`ScaleRule::Uniform`] draws at this `s`.
+    UniformAt(f32),
+}
 
 /// Selects LODs for a set of objects, frame after frame.
 ///
@@ -356,6 +365,22 @@ impl Selector {
 
     /// [`select`](Self::select), recording the diagnostics when asked.
     fn select_recording(&mut self, frame: &FrameInput, diagnostics: bool) -> Result<()> {
+        if self.settings.scale_rule == ScaleRule::Budgeted {
+            let scale = checked_scale(frame.scale)?;
+            if scale < 1.0 {
+                let at_one = FrameInput {
+                    scale: 1.0,
+                    ..*frame
+                };
+                self.select_budgeted(&at_one, Budget::UniformAt(scale), diagnostics)?;
+                if diagnostics {
+                    for d in &mut self.diagnostics {
+                        d.threshold_cpd *= scale;
+                    }
+                }
+                return Ok(());
+            }
+        }
         let biased = self.biased > 0;
         let hysteresis = self.hysteresis();
         let thresholds = hysteresis.is_some_and(|h| h.needs_thresholds());
@@ -396,20 +421,48 @@ impl Selector {
         frame: &FrameInput,
         triangle_budget: u64,
     ) -> Result<BudgetOutcome> {
+        self.select_budgeted(frame, Budget::Triangles(triangle_budget), false)
+    }
+
+    /// [`select_within_budget`](Self::select_within_budget) with the
+    /// budget given or taken from a uniform `s`
+    /// ([`ScaleRule::Budgeted`]), recording the diagnostics when asked.
+    fn select_budgeted(
+        &mut self,
+        frame: &FrameInput,
+        budget: Budget,
+        diagnostics: bool,
+    ) -> Result<BudgetOutcome> {
         let s_max = checked_scale(frame.scale)?;
-        self.run(frame, 1.0, false, true)?;
+        self.run(frame, 1.0, diagnostics, true)?;
         self.bias_budget_entries();
+        // The lowest `s` a step may need: `min_scale`, or a lower `s` whose
+        // triangles are the budget (every step the uniform rule takes there).
+        let min_scale = self.settings.min_scale.clamp(1e-6, s_max);
+        // A budget from `s` is the scheduler's soft target: within the
+        // dwell time after a switch an object keeps its LOD however the
+        // budget moves (a given budget may force a coarsening).
+        let strict_dwell = matches!(budget, Budget::UniformAt(_));
+        let (s_min, triangle_budget) = match budget {
+            Budget::Triangles(t) => (min_scale, t),
+            Budget::UniformAt(scale) => (
+                min_scale.min(scale),
+                self.single_triangles() + self.triangles_at(scale),
+            ),
+        };
         let dwell = self.hysteresis().and_then(|h| h.dwell_only());
         if dwell.is_some() {
             self.advance_clock(frame.dt_s);
         }
         let (scale, mut triangles) = match self.settings.budget_rule {
-            BudgetRule::BestEffort => self.best_effort_within(s_max, triangle_budget, true),
+            BudgetRule::BestEffort => {
+                self.best_effort_within([s_min, s_max], triangle_budget, true, strict_dwell)
+            }
             BudgetRule::BestEffortUnweighted => {
-                self.best_effort_within(s_max, triangle_budget, false)
+                self.best_effort_within([s_min, s_max], triangle_budget, false, strict_dwell)
             }
             BudgetRule::UniformScale => {
-                let (scale, triangles) = self.uniform_scale_within(s_max, triangle_budget);
+                let (scale, triangles) = self.uniform_scale_within([s_min, s_max], triangle_budget);
                 self.apply_budget_scale(scale);
                 (scale, triangles)
             }
@@ -421,7 +474,7 @@ impl Selector {
         // saccade, hold finer LODs only within the budget's room.
         if let Some(h) = dwell {
             let room = triangle_budget.saturating_sub(triangles);
-            triangles += self.apply_hysteresis(h, Some(room));
+            triangles += self.apply_hysteresis(h, (!strict_dwell).then_some(room));
         }
         triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         Ok(BudgetOutcome {
@@ -431,11 +484,10 @@ impl Selector {
         })
     }
 
-    /// The largest `s` in `[min_scale, s_max]` whose LODs fit
-    /// `triangle_budget` (or `min_scale`), and the triangles at it.
-    fn uniform_scale_within(&self, s_max: f32, triangle_budget: u64) -> (f32, u64) {
+    /// The largest `s` in `[s_min, s_max]` whose LODs fit
+    /// `triangle_budget` (or `s_min`), and the triangles at it.
+    fn uniform_scale_within(&self, [s_min, s_max]: [f32; 2], triangle_budget: u64) -> (f32, u64) {
         let fixed = self.single_triangles();
-        let s_min = self.settings.min_scale.clamp(1e-6, s_max);
         let mut scale = s_max;
         let mut triangles = fixed + self.triangles_at(scale);
         if triangles > triangle_budget {

@@ -61,10 +61,11 @@ pub struct FramerateArgs {
 }
 
 /// The policies the experiment plays, in report order.
-pub const FRAMERATE_POLICIES: [Policy; 9] = [
+pub const FRAMERATE_POLICIES: [Policy; 10] = [
     Policy::Full,
     Policy::AcuityAll,
     Policy::AcuityReactive,
+    Policy::AcuityReactiveBudgeted,
     Policy::AcuityPredictive,
     Policy::AcuityPredictiveUnweighted,
     Policy::AcuityPredictiveUniform,

@@ -459,6 +459,13 @@ pub enum Policy {
     /// of the whole period recomputed every frame, no hysteresis, blind to
     /// the cost floor.
     AcuityPredictiveNoHeadroom,
+    /// As [`Policy::AcuityAll`], `s < 1` spent as a budget
+    /// ([`acuity::ScaleRule::Budgeted`]): the triangles one `s` would draw,
+    /// coarsened best effort from the LODs at `s = 1`.
+    AcuityAllBudgeted,
+    /// As [`Policy::AcuityReactive`], the scheduler's `s` spent as a budget
+    /// ([`acuity::ScaleRule::Budgeted`]).
+    AcuityReactiveBudgeted,
 }
 
 impl Policy {
@@ -485,7 +492,7 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 8] = [
+    pub const EXTRA: [Policy; 10] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
@@ -494,6 +501,8 @@ impl Policy {
         Policy::ScreenSizeReactive,
         Policy::AcuityReactiveNoHeadroom,
         Policy::AcuityPredictiveNoHeadroom,
+        Policy::AcuityAllBudgeted,
+        Policy::AcuityReactiveBudgeted,
     ];
 
     /// Whether a fixed-frame-rate scheduler sets this policy's knob.
@@ -507,6 +516,7 @@ impl Policy {
                 | Policy::ScreenSizeReactive
                 | Policy::AcuityReactiveNoHeadroom
                 | Policy::AcuityPredictiveNoHeadroom
+                | Policy::AcuityReactiveBudgeted
         )
     }
 
@@ -540,6 +550,7 @@ impl Policy {
                 | Policy::AcuitySizeVel
                 | Policy::AcuityEccVel
                 | Policy::AcuityAll
+                | Policy::AcuityAllBudgeted
         )
     }
 
@@ -563,6 +574,8 @@ impl Policy {
             Policy::ScreenSizeReactive => "screen_size_reactive",
             Policy::AcuityReactiveNoHeadroom => "acuity_reactive_no_headroom",
             Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
+            Policy::AcuityAllBudgeted => "acuity_all_budgeted",
+            Policy::AcuityReactiveBudgeted => "acuity_reactive_budgeted",
         }
     }
 }
