@@ -496,6 +496,11 @@ pub struct PredictiveScheduler {
     last_raised: bool,
     stats: FrameStats,
     unreachable: bool,
+    /// Load announced for the next frame, s ([`Self::announce_load`]).
+    announced_s: f32,
+    /// The last announced load and the budget it left, held while the
+    /// announcements stay within 10% of it and the frames on time.
+    announced_budget: Option<(f32, u64)>,
 }
 
 impl PredictiveScheduler {
@@ -510,6 +515,25 @@ impl PredictiveScheduler {
             last_raised: false,
             stats: FrameStats::new(),
             unreachable: false,
+            announced_s: 0.0,
+            announced_budget: None,
+        }
+    }
+
+    /// Announces work the next frame will do beyond what the frames so far
+    /// contained, s (a shader to compile, a chunk to stream in, a physics
+    /// burst): work an engine knows of before it starts the frame. The
+    /// next [`triangle_budget`](Self::triangle_budget) leaves room for it
+    /// at once, instead of after the first late frame, and the next
+    /// [`observe`](Self::observe) takes it out of the frame time, so the
+    /// controller does not learn it as a lasting load. The budget it leaves
+    /// is held, as the budget itself is, while the announcements stay
+    /// within 10% of the load it was made for and the frames on time.
+    /// Announcements within a frame add up; [`observe`](Self::observe)
+    /// clears them. Not finite or not `> 0`: nothing.
+    pub fn announce_load(&mut self, extra_s: f32) {
+        if extra_s.is_finite() && extra_s > 0.0 {
+            self.announced_s += extra_s;
         }
     }
 
@@ -533,21 +557,41 @@ impl PredictiveScheduler {
         self.unreachable
     }
 
-    /// The triangle budget for the next frame.
+    /// The triangle budget for the next frame (less what an announced load
+    /// takes, [`Self::announce_load`]).
     pub fn triangle_budget(&mut self) -> u64 {
-        let fresh = self
-            .cost
-            .triangle_budget(self.settings.steer_s(self.aim_s(), self.stats.sigma()));
-        *self.held.get_or_insert(fresh)
+        let steer_s = self.settings.steer_s(self.aim_s(), self.stats.sigma());
+        let held = *self
+            .held
+            .get_or_insert_with(|| self.cost.triangle_budget(steer_s));
+        let announced_s = self.announced_s;
+        if announced_s <= 0.0 {
+            self.announced_budget = None;
+            return held;
+        }
+        // Held like the budget itself: a budget that moves with every
+        // frame's reading reorders objects whose costs are close.
+        let budget = match self.announced_budget {
+            Some((a, b)) if (announced_s - a).abs() <= 0.1 * a => b,
+            _ => {
+                let b = self.cost.triangle_budget(steer_s - announced_s);
+                self.announced_budget = Some((announced_s, b));
+                b
+            }
+        };
+        held.min(budget)
     }
 
     /// Feeds back the frame just drawn: its time (s), the triangles it
     /// drew and those it would have drawn with every visible object at its
     /// coarsest LOD (for the cost floor). Invalid times change nothing.
     pub fn observe(&mut self, frame_time_s: f32, triangles: u64, coarsest_triangles: u64) {
+        let announced_s = std::mem::take(&mut self.announced_s);
         if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
             return;
         }
+        // The announced load was budgeted for; what is left is the scene's.
+        let (full_frame_s, frame_time_s) = (frame_time_s, (frame_time_s - announced_s).max(1e-6));
         let st = self.settings;
         // A frame clearly over the period (by more than the dead band,
         // beyond the jitter) is news of more load: learn it at once (a
@@ -562,12 +606,15 @@ impl PredictiveScheduler {
         self.unreachable = self
             .cost
             .floor_s(coarsest_triangles)
-            .is_some_and(|f| f > st.target_frame_s);
+            .is_some_and(|f| f + announced_s > st.target_frame_s);
         let aim = self.stats.see(&st, frame_time_s);
         let fresh = self
             .cost
             .triangle_budget(st.steer_s(aim, self.stats.sigma()));
         let missed = self.stats.missed(frame_time_s, st.target_frame_s, band);
+        if full_frame_s > (1.0 + band) * st.target_frame_s {
+            self.announced_budget = None;
+        }
         let Some(held) = self.held else {
             self.held = Some(fresh);
             return;

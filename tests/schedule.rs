@@ -510,3 +510,73 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn an_announced_load_is_budgeted_for_before_its_first_frame() {
+    // The predictive controller on the plant at 90 Hz with 5% noise, then
+    // spikes of +40% of the period (reachable: the budget can make room)
+    // of 20 frames each, told in advance or not.
+    let run = |announce: bool, seed: u64| {
+        let settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
+        let plant = Plant::new(seed);
+        let mut rng = Rng::new(seed ^ 0xa11);
+        let fixed_s = 1e-3;
+        let mut sched = PredictiveScheduler::new(
+            settings,
+            CostModel::new(fixed_s, plant.seconds_per_triangle),
+        );
+        let (mut first_over, mut over) = (0, 0);
+        // The highest ratio of the learnt per-triangle cost at a spike's
+        // end to the one just before it.
+        let (mut before, mut learnt) = (0f32, 0f32);
+        for frame in 0..900 {
+            let phase = frame % 150;
+            let spike = frame >= 300 && (100..120).contains(&phase);
+            let extra_s = if spike {
+                0.4 * settings.target_frame_s
+            } else {
+                0.0
+            };
+            if announce && spike {
+                sched.announce_load(extra_s);
+            }
+            let budget = sched.triangle_budget();
+            let per_triangle_s = sched.cost_model().per_triangle_s;
+            if frame >= 300 && phase == 100 {
+                before = per_triangle_s;
+            }
+            if frame >= 300 && phase == 120 {
+                learnt = learnt.max(per_triangle_s / before);
+            }
+            let (_, triangles) = plant.fit_budget(budget);
+            let t = (fixed_s + triangles * plant.seconds_per_triangle + extra_s)
+                * noise(&mut rng, 0.05);
+            if spike && t > settings.target_frame_s {
+                over += 1;
+                first_over += usize::from(phase == 100);
+            }
+            sched.observe(t, triangles as u64, plant.coarsest_triangles());
+        }
+        (first_over, over, learnt)
+    };
+    for seed in 0..8 {
+        let (first_told, over_told, learnt) = run(true, seed);
+        let (first_blind, over_blind, _) = run(false, seed);
+        // Four spikes: blind, a spike's first frame is late (but where the
+        // noise, or a budget still low from the spike before, left room).
+        assert!(first_blind >= 3, "seed {seed}: {first_blind}");
+        assert!(
+            first_told <= 1,
+            "seed {seed}: {first_told} first frames late"
+        );
+        assert!(
+            over_told < over_blind && over_told <= 4,
+            "seed {seed}: {over_told} of 80 spike frames late when told, {over_blind} blind"
+        );
+        // A told load is not learnt as the scene's cost.
+        assert!(
+            learnt < 1.1,
+            "seed {seed}: the per-triangle cost rose {learnt}x in a spike"
+        );
+    }
+}

@@ -339,15 +339,18 @@ impl<'w> Player<'w> {
             for j in 0..policies.len() {
                 let p = (j + k as usize) % n_pol;
                 let (runner, run) = (&mut runners[p], &mut runs[p]);
-                let start = Instant::now();
-                let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
-                let selected = start.elapsed();
-                let out = world.render_faded(&view, &lods, runner.fades())?;
                 let spike = self
                     .settings
                     .load_spikes
                     .iter()
                     .find(|(a, b, _)| (*a..*b).contains(&view.t_s));
+                if let Some(&(_, _, ms)) = spike {
+                    runner.announce_load(ms * 1e-3);
+                }
+                let start = Instant::now();
+                let choice = runner.choose(world, &view, self.settings.dt_s as f32, &mut lods)?;
+                let selected = start.elapsed();
+                let out = world.render_faded(&view, &lods, runner.fades())?;
                 if let Some(&(_, _, ms)) = spike {
                     spin(start.elapsed().as_secs_f64() + ms * 1e-3, start);
                 }

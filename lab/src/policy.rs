@@ -49,6 +49,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityReactiveNoHeadroom
         | Policy::AcuityReactiveBudgeted
         | Policy::AcuityAllBudgeted
+        | Policy::AcuityPredictiveAnnounced
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
         | Policy::AcuityBestEffortUnweighted
@@ -234,6 +235,7 @@ impl PolicyRunner {
                 None,
             )),
             Policy::AcuityPredictive
+            | Policy::AcuityPredictiveAnnounced
             | Policy::AcuityPredictiveUniform
             | Policy::AcuityPredictiveUnweighted => Some(Scheduler::Predictive(
                 PredictiveScheduler::new(tuned()?, cost),
@@ -395,6 +397,19 @@ impl PolicyRunner {
     /// [`choose`](Self::choose), in instance order; empty when none runs.
     pub fn fades(&self) -> &[Option<FadeOut>] {
         &self.fades
+    }
+
+    /// Tells the predictive scheduler of work the next frame will do
+    /// beyond the scene's, s
+    /// ([`acuity::PredictiveScheduler::announce_load`]); for
+    /// [`Policy::AcuityPredictiveAnnounced`] only (the other policies are
+    /// not told), before [`choose`](Self::choose).
+    pub fn announce_load(&mut self, extra_s: f64) {
+        if let (Policy::AcuityPredictiveAnnounced, Some(Scheduler::Predictive(p))) =
+            (self.policy, &mut self.scheduler)
+        {
+            p.announce_load(extra_s as f32);
+        }
     }
 
     /// Feeds back the measured frame (seconds, triangles drawn) to the

@@ -61,12 +61,13 @@ pub struct FramerateArgs {
 }
 
 /// The policies the experiment plays, in report order.
-pub const FRAMERATE_POLICIES: [Policy; 10] = [
+pub const FRAMERATE_POLICIES: [Policy; 11] = [
     Policy::Full,
     Policy::AcuityAll,
     Policy::AcuityReactive,
     Policy::AcuityReactiveBudgeted,
     Policy::AcuityPredictive,
+    Policy::AcuityPredictiveAnnounced,
     Policy::AcuityPredictiveUnweighted,
     Policy::AcuityPredictiveUniform,
     Policy::ScreenSizeReactive,

@@ -466,6 +466,11 @@ pub enum Policy {
     /// As [`Policy::AcuityReactive`], the scheduler's `s` spent as a budget
     /// ([`acuity::ScaleRule::Budgeted`]).
     AcuityReactiveBudgeted,
+    /// As [`Policy::AcuityPredictive`], told of each load spike before its
+    /// frames ([`acuity::PredictiveScheduler::announce_load`]): what an
+    /// engine that knows its extra work (a shader to compile, a chunk to
+    /// stream) gets.
+    AcuityPredictiveAnnounced,
 }
 
 impl Policy {
@@ -492,7 +497,7 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 10] = [
+    pub const EXTRA: [Policy; 11] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
@@ -503,6 +508,7 @@ impl Policy {
         Policy::AcuityPredictiveNoHeadroom,
         Policy::AcuityAllBudgeted,
         Policy::AcuityReactiveBudgeted,
+        Policy::AcuityPredictiveAnnounced,
     ];
 
     /// Whether a fixed-frame-rate scheduler sets this policy's knob.
@@ -517,6 +523,7 @@ impl Policy {
                 | Policy::AcuityReactiveNoHeadroom
                 | Policy::AcuityPredictiveNoHeadroom
                 | Policy::AcuityReactiveBudgeted
+                | Policy::AcuityPredictiveAnnounced
         )
     }
 
@@ -576,6 +583,7 @@ impl Policy {
             Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
             Policy::AcuityAllBudgeted => "acuity_all_budgeted",
             Policy::AcuityReactiveBudgeted => "acuity_reactive_budgeted",
+            Policy::AcuityPredictiveAnnounced => "acuity_predictive_announced",
         }
     }
 }
