@@ -509,6 +509,27 @@ proptest! {
             prop_assert!(s.is_finite() && s <= 1.0 && s >= floor.min(1.0) - 1e-7, "s = {}", s);
         }
     }
+
+    #[test]
+    fn an_announced_load_never_raises_the_budget(
+        frames in proptest::collection::vec(
+            (prop_oneof![0f32..0.1, proptest::num::f32::ANY], 0u64..2_000_000, prop_oneof![0f32..0.05, proptest::num::f32::ANY]),
+            1..100,
+        ),
+    ) {
+        let settings = ReactiveSettings::for_rate_hz(60.0).unwrap();
+        let cost = CostModel::new(2e-3, 1e-8);
+        let mut told = PredictiveScheduler::new(settings, cost);
+        for (frame_s, triangles, load_s) in frames {
+            let before = told.triangle_budget();
+            told.announce_load(load_s);
+            let with_load = told.triangle_budget();
+            prop_assert!(with_load <= before, "{} > {} with {} s announced", with_load, before, load_s);
+            told.observe(frame_s, triangles, triangles / 10);
+            let m = told.cost_model();
+            prop_assert!(m.per_triangle_s.is_finite() && m.per_triangle_s > 0.0, "{:?}", m);
+        }
+    }
 }
 
 #[test]
