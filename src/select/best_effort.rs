@@ -44,7 +44,7 @@
 //! that moves, the coarsening it forced and the refinement that would undo
 //! it a few frames later are what reads as flicker. With the budget a
 //! scale factor sets ([`ScaleRule::Budgeted`](super::ScaleRule::Budgeted)),
-//! a soft target, such a step is never taken (`strict_dwell`).
+//! a soft target, such an object takes no step at all (`strict_dwell`).
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
@@ -154,14 +154,14 @@ impl Selector {
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
-            let kept = self.kept_lod(slot);
-            let beyond = self.beyond_factor(slot, dwell_s, strict_dwell);
-            let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+            let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
+            let mut next = if self.holds_lod(slot, dwell_s, strict_dwell) {
+                None
+            } else {
+                self.next_step(slot, &entry, adjust, lod, s_min, weighted)
+            };
             while let Some(step) = next {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
-                if cost == f32::INFINITY {
-                    break;
-                }
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
             }
@@ -191,15 +191,16 @@ impl Selector {
                     let adjust = adjust_of(slot);
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
-                    let kept = self.kept_lod(slot);
-                    let beyond = self.beyond_factor(slot, dwell_s, strict_dwell);
-                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+                    let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
+                    let mut next = if self.holds_lod(slot, dwell_s, strict_dwell) {
+                        None
+                    } else {
+                        self.next_step(slot, &entry, adjust, lod, s_min, weighted)
+                    };
                     while let Some(step) = next {
                         cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
-                        let take = if cost == f32::INFINITY {
-                            false
-                        } else if below {
+                        let take = if below {
                             bin < threshold
                         } else {
                             bin == threshold && triangles > triangle_budget
@@ -227,15 +228,22 @@ impl Selector {
     }
 
     /// The cost factor of the steps beyond the LOD the object in `slot` had
-    /// last frame: when it switched less than `dwell_s` ago,
-    /// [`DWELL_PENALTY`], or infinity (never taken) with `strict_dwell`;
-    /// else 1.
-    fn beyond_factor(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> f32 {
-        match (self.switched_within(slot, dwell_s), strict_dwell) {
-            (false, _) => 1.0,
-            (true, false) => DWELL_PENALTY,
-            (true, true) => f32::INFINITY,
+    /// last frame: [`DWELL_PENALTY`] when it switched less than `dwell_s`
+    /// ago, else 1.
+    fn beyond_factor(&self, slot: usize, dwell_s: f32) -> f32 {
+        if self.switched_within(slot, dwell_s) {
+            DWELL_PENALTY
+        } else {
+            1.0
         }
+    }
+
+    /// Whether the object in `slot` takes no step at all: with
+    /// `strict_dwell`, when it switched less than `dwell_s` ago (pass 1
+    /// starts it no finer than last frame's LOD, so every step would lead
+    /// beyond that LOD).
+    fn holds_lod(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> bool {
+        strict_dwell && self.switched_within(slot, dwell_s)
     }
 
     /// The LOD the object in `slot` had last frame (0 when it was culled
