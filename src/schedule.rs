@@ -207,6 +207,14 @@ impl ReactiveSettings {
 
 /// The smallest relative step down.
 const MIN_LOWER_FACTOR: f32 = 0.98;
+/// The largest exponent of a step down while frames over the period do
+/// not respond to `s` (see `ReactiveScheduler::descent_gain`): the step
+/// that would fit a frame cost proportional to `s`. With
+/// [`ReactiveSettings::max_ratio`] 4, `s` falls at most 4-fold a frame.
+/// An exponent of 2 came down a frame sooner on `scenes/vr_sweep.toml`
+/// but, after a noisy frame, to a quarter of the `s` that held the rate,
+/// and took a second to climb back.
+const MAX_DESCENT_GAIN: f32 = 1.0;
 
 /// Weight of a frame in the learned relative variation.
 const VARIATION_RATE: f32 = 0.05;
@@ -337,7 +345,9 @@ impl FrameStats {
 /// so the controller cannot cycle between a level that fits and one that
 /// does not. The ceiling is lifted when a frame comes in under
 /// [`ReactiveSettings::clear_ratio`] of the period, i.e. the load itself
-/// has dropped.
+/// has dropped. Coming down from an overload whose frame time does not
+/// follow `s` (the first halvings below full detail switch few objects),
+/// the step grows to the one that fits a cost proportional to `s`.
 #[derive(Clone, Debug)]
 pub struct ReactiveScheduler {
     settings: ReactiveSettings,
@@ -348,6 +358,9 @@ pub struct ReactiveScheduler {
     unreachable: bool,
     /// `s` before the spike that lowered it, until calm frames return it.
     before_spike: Option<f32>,
+    /// After a frame over the period lowered `s`: the `s` before that
+    /// move and the frame's time, to judge the next frame by.
+    descent: Option<(f32, f32)>,
 }
 
 impl ReactiveScheduler {
@@ -363,6 +376,7 @@ impl ReactiveScheduler {
             stats: FrameStats::new(),
             unreachable: false,
             before_spike: None,
+            descent: None,
         }
     }
 
@@ -437,9 +451,15 @@ impl ReactiveScheduler {
             // where it was. A second frame over the period is a load.
             self.before_spike =
                 (spike && self.stats.over == 1 && self.stats.frames > 1).then_some(old);
+            let gain = if missed {
+                self.descent_gain(old, frame_time_s)
+            } else {
+                st.gain
+            };
+            self.descent = missed.then_some((old, frame_time_s));
             // At least a 2% step: a frame barely over its aim would otherwise
             // creep towards the next LOD step for hundreds of frames.
-            self.scale = (old * ratio.powf(-st.gain).min(MIN_LOWER_FACTOR)).max(st.min_scale);
+            self.scale = (old * ratio.powf(-gain).min(MIN_LOWER_FACTOR)).max(st.min_scale);
         } else if settled && self.stats.calm >= st.settle_frames {
             let level = self.stats.level_s.max(frame_time_s);
             if level < st.clear_ratio * st.target_frame_s {
@@ -455,6 +475,9 @@ impl ReactiveScheduler {
             }
             self.scale = next.clamp(st.min_scale, 1.0).max(old.min(1.0));
         }
+        if self.scale >= old {
+            self.descent = None;
+        }
         // `last` is the last move, holds in between kept.
         if self.scale > old {
             self.last = Step::Raise;
@@ -466,6 +489,33 @@ impl ReactiveScheduler {
             self.stats.moved();
         }
         self.scale
+    }
+}
+
+impl ReactiveScheduler {
+    /// The exponent of a step down after a frame of `frame_s` over the
+    /// period at `scale`. The gain (0.5) is sized for a frame cost up to
+    /// quadratic in `s`; where the last step down, also after a frame over
+    /// the period, cut the frame time by less than half of what a cost
+    /// proportional to `s` would have, the cost is flatter here (the
+    /// objects switch further down, the fixed time dominates) and the step
+    /// is the one that fits a proportional cost ([`MAX_DESCENT_GAIN`]):
+    /// coming down from full detail's frames, each halving of `s` would
+    /// otherwise cost a late frame.
+    fn descent_gain(&self, scale: f32, frame_s: f32) -> f32 {
+        let gain = self.settings.gain;
+        match self.descent {
+            Some((before, before_frame_s)) if before > scale => {
+                let fell = (before / scale).ln();
+                let frame_fell = (before_frame_s / frame_s).ln();
+                if frame_fell < 0.5 * fell {
+                    gain.max(MAX_DESCENT_GAIN)
+                } else {
+                    gain
+                }
+            }
+            _ => gain,
+        }
     }
 }
 

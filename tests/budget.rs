@@ -506,3 +506,76 @@ fn a_budgeted_scale_that_moves_never_switches_an_object_back_within_its_dwell_ti
     );
     assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
 }
+
+#[test]
+fn min_dwell_lets_a_coarsening_follow_a_coarsening_at_once() {
+    // A controller coming down from an overload lowers `s` frame after
+    // frame; each lower `s` must show in the next frame's LODs, or the
+    // frame times it learns from lag the dwell time behind. Only a switch
+    // back the other way waits.
+    let settings = SelectorSettings {
+        switch_min_dwell_s: 0.3,
+        ..SelectorSettings::default()
+    };
+    let (mut sel, ids) = random_scene(settings, 2000, 9, DVec3::ZERO);
+    let (mut plain, _) = random_scene(SelectorSettings::default(), 2000, 9, DVec3::ZERO);
+    let frame = frame_at(DVec3::ZERO, 1.0 / 30.0);
+    let scales = [1.0, 0.5, 0.25, 0.125, 0.0625];
+    let mut plain_lods = Vec::new();
+    for s in scales {
+        plain.select(&with_scale(frame, s)).unwrap();
+        plain_lods.push(lods(&plain, &ids));
+    }
+    assert!(plain_lods.windows(2).all(|w| w[0] != w[1]));
+    for (s, expected) in scales.into_iter().zip(&plain_lods) {
+        sel.select(&with_scale(frame, s)).unwrap();
+        assert!(
+            lods(&sel, &ids) == *expected,
+            "s = {s}: a coarsening right after a coarsening waited"
+        );
+    }
+    // Back up at once, then the next coarsening waits (a reversal).
+    sel.select(&with_scale(frame, 1.0)).unwrap();
+    assert!(lods(&sel, &ids) == plain_lods[0]);
+    sel.select(&with_scale(frame, 0.5)).unwrap();
+    assert!(
+        lods(&sel, &ids) == plain_lods[0],
+        "coarsened back within the dwell"
+    );
+}
+
+#[test]
+fn a_budgeted_scale_falling_frame_after_frame_is_met_within_the_dwell_time() {
+    // Under a budget from `s` an object that must not go back on its last
+    // switch takes no step; one that coarsened a frame ago may coarsen
+    // again, so a falling `s` draws no more than one `s` for all would.
+    let settings = |scale_rule| SelectorSettings {
+        scale_rule,
+        switch_min_dwell_s: 0.3,
+        ..SelectorSettings::default()
+    };
+    let (mut budgeted, _) = random_scene(settings(ScaleRule::Budgeted), 2000, 4, DVec3::ZERO);
+    let (mut uniform, _) = random_scene(settings(ScaleRule::Uniform), 2000, 4, DVec3::ZERO);
+    let frame = frame_at(DVec3::ZERO, 1.0 / 30.0);
+    let mut last = u64::MAX;
+    for s in [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03] {
+        budgeted.select(&with_scale(frame, s)).unwrap();
+        uniform.select(&with_scale(frame, s)).unwrap();
+        let (b, u) = (budgeted.triangles(), uniform.triangles());
+        assert!(b <= u, "s = {s}: {b} triangles against one s's {u}");
+        assert!(
+            b < last || s == 1.0,
+            "s = {s}: {b} triangles, {last} before"
+        );
+        last = b;
+    }
+    // Held past the dwell time, then up and down again within it: the
+    // objects that refined keep their LOD, and none refines further on
+    // the way down.
+    for s in [[0.03; 10].as_slice(), &[0.06, 0.03, 0.03]].concat() {
+        budgeted.select(&with_scale(frame, s)).unwrap();
+        uniform.select(&with_scale(frame, s)).unwrap();
+        let (b, u) = (budgeted.triangles(), uniform.triangles());
+        assert!(b <= u, "s = {s} again: {b} triangles against one s's {u}");
+    }
+}

@@ -601,3 +601,47 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
         );
     }
 }
+
+#[test]
+fn coming_down_from_an_overload_where_the_cost_is_flat_in_s_takes_few_late_frames() {
+    // At the start the frame takes 2.4x to 3.7x the period, and the
+    // triangles do not change over the first halvings of `s` (every
+    // object switches below `s = 0.24`). A step sized for a cost
+    // proportional to `s` spends a late frame on each halving (6 late
+    // frames on every seed); one that grows while the frame time does not
+    // fall comes down in 3.
+    let target = 1.0 / 90.0;
+    let mut worst = 0;
+    for seed in 0..20 {
+        let mut plant = Plant::new(seed);
+        for b in &mut plant.breakpoints {
+            *b = b.map(|x| 0.15 * x);
+        }
+        plant.seconds_per_triangle = 0.8 / 90.0 / plant.triangles(1.0);
+        let load = 3.0 + (seed % 3) as f32 * 0.8;
+        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
+        let mut late = 0;
+        let mut trace = Vec::new();
+        for _ in 0..300 {
+            let t = plant.frame_time(sched.scale(), load);
+            if t <= target {
+                break;
+            }
+            late += 1;
+            trace.push((sched.scale(), t / target));
+            sched.update(t);
+        }
+        worst = worst.max(late);
+        assert!(late <= 3, "seed {seed}: {late} late frames: {trace:?}");
+        for _ in 0..300 {
+            let t = plant.frame_time(sched.scale(), load);
+            sched.update(t);
+        }
+        let t = plant.frame_time(sched.scale(), load);
+        assert!(
+            t <= target && t >= 0.5 * target,
+            "seed {seed}: settled at {t} s for a {target} s target"
+        );
+    }
+    assert!(worst >= 2, "{worst}: the plant starts within the period");
+}

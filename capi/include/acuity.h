@@ -205,8 +205,8 @@ typedef struct AcuitySettings {
      */
     float switch_hysteresis;
     /**
-     * Least time an object keeps an LOD before it may coarsen, s (finite,
-     * >= 0; 0, the default: off).
+     * Least time an object keeps an LOD it refined to before it may
+     * coarsen again, s (finite, >= 0; 0, the default: off).
      */
     float switch_min_dwell_s;
     /**

@@ -95,8 +95,8 @@ pub struct AcuitySettings {
     /// Hysteresis of switches to coarser LODs, a fraction in [0, 1]
     /// (0, the default: off).
     pub switch_hysteresis: f32,
-    /// Least time an object keeps an LOD before it may coarsen, s (finite,
-    /// >= 0; 0, the default: off).
+    /// Least time an object keeps an LOD it refined to before it may
+    /// coarsen again, s (finite, >= 0; 0, the default: off).
     pub switch_min_dwell_s: f32,
     /// Non-zero: list the objects whose LOD changed each frame
     /// (`acuity_selector_changes`). Default 0.

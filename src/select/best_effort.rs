@@ -36,15 +36,18 @@
 //! costs [`SelectorSettings::budget_hysteresis`](super::SelectorSettings::budget_hysteresis)
 //! less, so that near ties keep last frame's order; with
 //! [`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s),
-//! a step beyond last frame's LOD of an object that switched less than that
-//! ago costs [`DWELL_PENALTY`] times more, so it is taken only where the
-//! budget needs it, and such an object does not go back to a finer LOD
-//! until the dwell time has passed (the greedy starts from last frame's LOD
-//! where that is coarser than the one at the frame's `s`): under a budget
-//! that moves, the coarsening it forced and the refinement that would undo
-//! it a few frames later are what reads as flicker. With the budget a
-//! scale factor sets ([`ScaleRule::Budgeted`](super::ScaleRule::Budgeted)),
-//! a soft target, such an object takes no step at all (`strict_dwell`).
+//! a step beyond last frame's LOD of an object that switched to a finer LOD
+//! less than that ago costs [`DWELL_PENALTY`] times more, so it is taken
+//! only where the budget needs it, and an object that switched to a
+//! coarser one does not go back to a finer LOD until the dwell time has
+//! passed (the greedy starts from last frame's LOD where that is coarser
+//! than the one at the frame's `s`): under a budget that moves, the
+//! coarsening it forced and the refinement that would undo it a few frames
+//! later are what reads as flicker. A switch the same way as the object's
+//! last one is no reversal and waits for nothing. With the budget a scale
+//! factor sets ([`ScaleRule::Budgeted`](super::ScaleRule::Budgeted)), a
+//! soft target, an object that would go back on its last switch takes no
+//! step at all (`strict_dwell`).
 //!
 //! `s` stays the scheduler's knob: the greedy starts from the LODs at the
 //! frame's `s`, takes no step that needs `s` below
@@ -143,10 +146,10 @@ impl Selector {
             }
             let p = self.object_profiles[slot] as usize;
             let mut lod = self.lod_at(&entry, p, s_max);
-            // Within the dwell time after a switch, no switch back to a
-            // finer LOD either: a budget's coarsening undone a few frames
-            // later is flicker, and keeping the coarser LOD only saves.
-            if self.switched_within(slot, dwell_s) {
+            // Within the dwell time after a coarsening, no switch back to
+            // a finer LOD: a budget's coarsening undone a few frames later
+            // is flicker, and keeping the coarser LOD only saves.
+            if self.reverses_within(slot, dwell_s, true) {
                 let last = self.profiles[p].lod_count - 1;
                 lod = lod.max(self.kept_lod(slot).min(last));
             }
@@ -155,12 +158,9 @@ impl Selector {
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut cost = 0.0f32;
             let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
-            let mut next = if self.holds_lod(slot, dwell_s, strict_dwell) {
-                None
-            } else {
-                self.next_step(slot, &entry, adjust, lod, s_min, weighted)
-            };
-            while let Some(step) = next {
+            let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
+            let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+            while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                 saved_by_bin[bin_of(cost)] += u64::from(step.saved);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
@@ -192,12 +192,9 @@ impl Selector {
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
                     let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
-                    let mut next = if self.holds_lod(slot, dwell_s, strict_dwell) {
-                        None
-                    } else {
-                        self.next_step(slot, &entry, adjust, lod, s_min, weighted)
-                    };
-                    while let Some(step) = next {
+                    let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
+                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+                    while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                         cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
                         let take = if below {
@@ -228,22 +225,27 @@ impl Selector {
     }
 
     /// The cost factor of the steps beyond the LOD the object in `slot` had
-    /// last frame: [`DWELL_PENALTY`] when it switched less than `dwell_s`
-    /// ago, else 1.
+    /// last frame: [`DWELL_PENALTY`] when it switched to a finer LOD less
+    /// than `dwell_s` ago, else 1.
     fn beyond_factor(&self, slot: usize, dwell_s: f32) -> f32 {
-        if self.switched_within(slot, dwell_s) {
+        if self.reverses_within(slot, dwell_s, false) {
             DWELL_PENALTY
         } else {
             1.0
         }
     }
 
-    /// Whether the object in `slot` takes no step at all: with
-    /// `strict_dwell`, when it switched less than `dwell_s` ago (pass 1
-    /// starts it no finer than last frame's LOD, so every step would lead
-    /// beyond that LOD).
-    fn holds_lod(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> bool {
-        strict_dwell && self.switched_within(slot, dwell_s)
+    /// The coarsest LOD the greedy may step the object in `slot` to: with
+    /// `strict_dwell`, last frame's LOD when the object switched to a finer
+    /// LOD less than `dwell_s` ago (a coarser one would go back on that
+    /// switch; where the start is finer, steps up to it switch nothing);
+    /// otherwise any.
+    fn coarsest_step(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> usize {
+        if strict_dwell && self.reverses_within(slot, dwell_s, false) {
+            self.kept_lod(slot)
+        } else {
+            usize::MAX
+        }
     }
 
     /// The LOD the object in `slot` had last frame (0 when it was culled

@@ -7,7 +7,11 @@
 //!   threshold, raised by the hysteresis, still allows;
 //! - by time
 //!   ([`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s)):
-//!   an object coarsens only once it has held its LOD that long.
+//!   an object that switched to a finer LOD coarsens only once it has held
+//!   it that long. A switch the same way as the last one is no reversal
+//!   and waits for nothing: an object coarsened a frame ago coarsens
+//!   further at once when `s` keeps falling (a controller coming down from
+//!   an overload sees each lower `s` in the next frame's time).
 //!
 //! Switches to finer LODs happen at once, so both rules only ever keep
 //! more detail than the plain rule: an object near a transition's critical
@@ -21,6 +25,22 @@
 use super::Selection;
 use super::Selector;
 use super::rule::count_coarser;
+
+/// When an object last switched LOD (by the hysteresis' clock, s) and
+/// which way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct LastSwitch {
+    pub(super) at_s: f64,
+    pub(super) to_finer: bool,
+}
+
+impl LastSwitch {
+    /// An object that never switched.
+    pub(super) const NEVER: Self = Self {
+        at_s: f64::NEG_INFINITY,
+        to_finer: false,
+    };
+}
 
 /// What the hysteresis of a frame applies.
 #[derive(Clone, Copy, Debug)]
@@ -73,14 +93,14 @@ impl Selector {
         }
     }
 
-    /// Whether the object in `slot` switched LOD less than `dwell_s` ago
-    /// (by the clock as advanced for this frame).
-    pub(super) fn switched_within(&self, slot: usize, dwell_s: f32) -> bool {
+    /// Whether a switch of the object in `slot` to a finer (`to_finer`) or
+    /// coarser LOD would go back on a switch the other way made less than
+    /// `dwell_s` ago (by the clock as advanced for this frame).
+    pub(super) fn reverses_within(&self, slot: usize, dwell_s: f32, to_finer: bool) -> bool {
         dwell_s > 0.0
-            && self
-                .switched_at_s
-                .get(slot)
-                .is_some_and(|&at| self.clock_s - at < f64::from(dwell_s))
+            && self.last_switch.get(slot).is_some_and(|last| {
+                last.to_finer != to_finer && self.clock_s - last.at_s < f64::from(dwell_s)
+            })
     }
 
     /// The dwell time of the frame's hysteresis (0: off).
@@ -98,7 +118,7 @@ impl Selector {
         let mut kept = 0u64;
         let multi = self.multi().min(self.previous.len());
         if hysteresis.dwell_s > 0.0 {
-            self.switched_at_s.resize(multi, f64::NEG_INFINITY);
+            self.last_switch.resize(multi, LastSwitch::NEVER);
         }
         let thresholds = hysteresis.needs_thresholds() && self.budget.len() >= multi;
         for slot in 0..multi {
@@ -119,7 +139,7 @@ impl Selector {
                     let row = &self.rows[entry.row as usize..][..n];
                     held = held.min(count_coarser(row, hysteresis.factor * entry.k_cdiam));
                 }
-                if self.switched_within(slot, hysteresis.dwell_s) {
+                if self.reverses_within(slot, hysteresis.dwell_s, false) {
                     held = usize::from(before.0);
                 }
                 let held = held.max(usize::from(before.0));
@@ -133,9 +153,12 @@ impl Selector {
                 }
             }
             if chosen != before
-                && let Some(at) = self.switched_at_s.get_mut(slot)
+                && let Some(last) = self.last_switch.get_mut(slot)
             {
-                *at = self.clock_s;
+                *last = LastSwitch {
+                    at_s: self.clock_s,
+                    to_finer: chosen.0 < before.0,
+                };
             }
         }
         kept

@@ -207,21 +207,25 @@ pub struct SelectorSettings {
     /// loop a recorded threshold per object (as a budget does) and a pass
     /// over the objects.
     pub switch_hysteresis: f32,
-    /// Least time an object holds an LOD before [`Selector::select`]
-    /// switches it to a coarser one, s (the frames' `dt_s` summed); NaN
-    /// and values not `> 0` are off, the default. Under
-    /// [`Selector::select_within_budget`], best effort takes a step that
-    /// would switch an object before then only where the budget needs it
-    /// (it prices it 1024 times dearer), a coarsening waits only while the
-    /// budget has room for the finer LOD it keeps, and an object does not
-    /// switch back to a finer LOD before then either (under a budget that
-    /// moves, undoing a coarsening a few frames later is flicker; holding
-    /// the coarser LOD only saves triangles). Under
-    /// [`ScaleRule::Budgeted`] at `s < 1` no switch happens before then,
-    /// whatever the budget needs. Under [`Selector::select`]
-    /// switches to finer LODs happen at once, so there this only keeps
-    /// detail: an object the view sweeps back and forth over a transition
-    /// does not flicker between two LODs faster than this.
+    /// Least time after a switch to a finer LOD before
+    /// [`Selector::select`] switches the object to a coarser one, s (the
+    /// frames' `dt_s` summed); NaN and values not `> 0` are off, the
+    /// default. Only a switch back the other way waits: an object that
+    /// coarsened a frame ago coarsens further at once (a scheduler lowering
+    /// `s` frame after frame sees each step in the next frame's time).
+    /// Under [`Selector::select_within_budget`], best effort takes a step
+    /// that would go back on a refinement before then only where the
+    /// budget needs it (it prices it 1024 times dearer), such a coarsening
+    /// waits only while the budget has room for the finer LOD it keeps,
+    /// and an object that coarsened does not switch back to a finer LOD
+    /// before then either (under a budget that moves, undoing a coarsening
+    /// a few frames later is flicker; holding the coarser LOD only saves
+    /// triangles). Under [`ScaleRule::Budgeted`] at `s < 1` no switch back
+    /// happens before then, whatever the budget needs. Under
+    /// [`Selector::select`] switches to finer LODs happen at once, so there
+    /// this only keeps detail: an object the view sweeps back and forth
+    /// over a transition does not flicker between two LODs faster than
+    /// this.
     pub switch_min_dwell_s: f32,
     /// The widest vector instructions the loop may use, detected at run
     /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
@@ -401,9 +405,9 @@ pub enum ScaleRule {
     /// It draws more only where
     /// [`SelectorSettings::switch_min_dwell_s`] holds an LOD: this budget
     /// is a scheduler's soft target, so within the dwell time after a
-    /// switch an object keeps its LOD whichever way the budget moves (a
-    /// budget that rises and falls with `s` would otherwise refine an
-    /// object and coarsen it again a few frames later: flicker). With [`BudgetRule::BestEffort`] the objects that
+    /// switch an object does not switch back, whichever way the budget
+    /// moves (a budget that rises and falls with `s` would otherwise refine
+    /// an object and coarsen it again a few frames later: flicker). With [`BudgetRule::BestEffort`] the objects that
     /// save many triangles at a barely visible cost coarsen first, so a
     /// scheduler that turns `s` spends its frame where it is seen. Costs a
     /// budgeted selection per frame while `s < 1` (the plain loop at

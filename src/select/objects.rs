@@ -12,6 +12,7 @@ use glam::{DVec3, Quat};
 use crate::camera::{MAX_WORLD_COORDINATE, normalized_rotation};
 use crate::error::{Error, Result};
 
+use super::hysteresis::LastSwitch;
 use super::store::{EMPTY_BLOCK, Lane, NO_HISTORY, NO_MOTION};
 use super::{BLOCK, Diagnostics, ObjectDesc, ObjectId, ProfileId, Selection, Selector};
 
@@ -238,6 +239,9 @@ impl Selector {
         // Not selected yet: culled, to the change list too.
         self.selections[slot] = Selection::CULLED;
         self.previous[slot] = Selection::CULLED;
+        if let Some(last) = self.last_switch.get_mut(slot) {
+            *last = LastSwitch::NEVER;
+        }
         self.slot_ids[slot] = id;
         self.handles[id.index as usize].slot = slot as u32;
     }
@@ -320,6 +324,7 @@ impl Selector {
         self.selections.pop();
         self.previous.pop();
         self.slot_ids.pop();
+        self.last_switch.truncate(self.selections.len());
     }
 
     /// Moves the per-slot outputs and the handle of the object at `from`
@@ -327,6 +332,15 @@ impl Selector {
     fn move_slot(&mut self, from: usize, to: usize) {
         self.selections[to] = self.selections[from];
         self.previous[to] = self.previous[from];
+        // The dwell rule's record follows the object (kept for the
+        // objects with more than one LOD only).
+        let last = self.last_switch.get(from).copied();
+        if to < self.last_switch.len() {
+            self.last_switch[to] = last.unwrap_or(LastSwitch::NEVER);
+        } else if let Some(last) = last {
+            self.last_switch.resize(to, LastSwitch::NEVER);
+            self.last_switch.push(last);
+        }
         let id = self.slot_ids[from];
         self.slot_ids[to] = id;
         self.handles[id.index as usize].slot = to as u32;

@@ -17,6 +17,7 @@ use crate::viewpoints::ViewpointLookup;
 use super::adjust::Adjust;
 use super::dispatch::{dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
+use super::hysteresis::LastSwitch;
 use super::kernel::Outputs;
 use super::objects::{Handle, SingleRecord};
 use super::rule::count_coarser;
@@ -133,9 +134,9 @@ pub struct Selector {
     /// frames.
     pub(super) adjusted_of: Vec<u32>,
     /// The switch hysteresis' clock (the sum of the frames' `dt_s`), s,
-    /// and per slot when its selection last changed.
+    /// and per slot when and which way its selection last changed.
     pub(super) clock_s: f64,
-    pub(super) switched_at_s: Vec<f64>,
+    pub(super) last_switch: Vec<LastSwitch>,
 }
 
 impl Selector {
@@ -176,7 +177,7 @@ impl Selector {
             deferred_before: Vec::new(),
             adjusted_of: Vec::new(),
             clock_s: 0.0,
-            switched_at_s: Vec::new(),
+            last_switch: Vec::new(),
         }
     }
 
@@ -440,8 +441,8 @@ impl Selector {
         // triangles are the budget (every step the uniform rule takes there).
         let min_scale = self.settings.min_scale.clamp(1e-6, s_max);
         // A budget from `s` is the scheduler's soft target: within the
-        // dwell time after a switch an object keeps its LOD however the
-        // budget moves (a given budget may force a coarsening).
+        // dwell time after a switch an object does not switch back however
+        // the budget moves (a given budget may force a coarsening).
         let strict_dwell = matches!(budget, Budget::UniformAt(_));
         let (s_min, triangle_budget) = match budget {
             Budget::Triangles(t) => (min_scale, t),
