@@ -579,3 +579,46 @@ fn a_budgeted_scale_falling_frame_after_frame_is_met_within_the_dwell_time() {
         assert!(b <= u, "s = {s} again: {b} triangles against one s's {u}");
     }
 }
+
+#[test]
+fn the_dwell_time_follows_an_object_moved_to_another_slot() {
+    // The last object takes the slot of a removed one; its refinement a
+    // frame ago must still hold back its coarsening, not the removed
+    // object's (older) record.
+    let settings = SelectorSettings {
+        switch_min_dwell_s: 0.3,
+        ..SelectorSettings::default()
+    };
+    let mut sel = Selector::new(display(), settings);
+    let p = sel.add_profile(&four_lod_profile(7)).unwrap();
+    let mut add = |z: f64| {
+        sel.add_object(ObjectDesc {
+            center: DVec3::new(0.0, 0.0, z),
+            radius: 1.0,
+            rotation: Quat::IDENTITY,
+            profile: p,
+        })
+        .unwrap()
+    };
+    let (far, near) = (add(-5000.0), add(-20.0));
+    let frame = frame_at(DVec3::ZERO, 1.0 / 30.0);
+    let lod_at = |sel: &mut Selector, s: f32| {
+        sel.select(&with_scale(frame, s)).unwrap();
+        (sel.selection(far).lod(), sel.selection(near).lod())
+    };
+    // Long enough for every record to be older than the dwell time.
+    for _ in 0..12 {
+        lod_at(&mut sel, 0.05);
+    }
+    let (far_coarse, near_coarse) = lod_at(&mut sel, 0.05);
+    let (far_fine, near_fine) = lod_at(&mut sel, 1.0);
+    assert_eq!(far_fine, far_coarse, "the far object must not switch");
+    assert_ne!(near_fine, near_coarse, "the near object must refine");
+    sel.remove_object(far).unwrap();
+    sel.select(&with_scale(frame, 0.05)).unwrap();
+    assert_eq!(
+        sel.selection(near).lod(),
+        near_fine,
+        "coarsened back 1/30 s after refining"
+    );
+}
