@@ -13,8 +13,9 @@
  * written only on success; a failure leaves a message for
  * acuity_last_error(), per thread, valid until the thread's next call.
  *
- * Ownership: the caller owns each AcuityProfile* (acuity_profile_free) and
- * AcuitySelector* (acuity_selector_free); NULL frees nothing. Pointers
+ * Ownership: the caller owns each AcuityProfile* (acuity_profile_free),
+ * AcuitySelector* (acuity_selector_free) and AcuityScheduler*
+ * (acuity_scheduler_free); NULL frees nothing. Pointers
  * passed in are borrowed for the call only. Returned strings belong to the
  * library. Object handles and profile indices belong to their selector.
  *
@@ -32,6 +33,25 @@
 
 #include <stddef.h>
 #include <stdint.h>
+
+/**
+ * A triangle budget that is off (`acuity_selector_set_budget`,
+ * `AcuitySchedulerState::budget`).
+ */
+#define ACUITY_NO_BUDGET UINT64_MAX
+
+/**
+ * `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
+ * turns the selector's `s` from the measured frame times.
+ */
+#define ACUITY_SCHEDULER_REACTIVE 0
+
+/**
+ * `acuity_scheduler_new`'s kind: the predictive controller, which sets a
+ * triangle budget from a cost model of the measured frames (Funkhouser &
+ * Séquin 1993), spent by best effort.
+ */
+#define ACUITY_SCHEDULER_PREDICTIVE 1
 
 /**
  * The LOD value of an object that is culled (outside the view, behind
@@ -128,6 +148,13 @@ typedef enum AcuityStatus {
 typedef struct AcuityProfile AcuityProfile;
 
 /**
+ * A fixed-frame-rate controller. Opaque; from `acuity_scheduler_new`,
+ * freed with `acuity_scheduler_free`. Not thread-safe: one thread at a
+ * time.
+ */
+typedef struct AcuityScheduler AcuityScheduler;
+
+/**
  * A selector: a display, the profiles added to it, its objects, and each
  * object's selection from the last frame. Opaque; from
  * `acuity_selector_new`, freed with `acuity_selector_free`. Not
@@ -160,6 +187,34 @@ typedef struct AcuityProfileInfo {
      */
     float bounding_radius;
 } AcuityProfileInfo;
+
+/**
+ * What a scheduler holds after the frames it saw.
+ */
+typedef struct AcuitySchedulerState {
+    /**
+     * The `s` it sets, in (0, 1] (1 for the predictive scheduler).
+     */
+    float scale;
+    /**
+     * The triangle budget it sets (`ACUITY_NO_BUDGET` for the reactive
+     * scheduler).
+     */
+    uint64_t budget;
+    /**
+     * The frame time it aims at, s: a fraction of the period, lower where
+     * the frames vary more.
+     */
+    float aim_s;
+    /**
+     * 1 when the last frame's cost floor (its time at every object's
+     * coarsest LOD) lay above the period: no LOD choice reaches the rate,
+     * and the scheduler does not lower detail for it. 0 otherwise, and
+     * while the floor is unknown (the reactive scheduler does not know
+     * it).
+     */
+    uint8_t target_unreachable;
+} AcuitySchedulerState;
 
 /**
  * A display as the viewer sees it: resolution and the field of view the
@@ -491,6 +546,90 @@ enum AcuityStatus acuity_profile_info(const struct AcuityProfile *profile,
 enum AcuityStatus acuity_profile_free(struct AcuityProfile *profile);
 
 /**
+ * Creates a scheduler of `kind` (`ACUITY_SCHEDULER_REACTIVE` or
+ * `ACUITY_SCHEDULER_PREDICTIVE`) holding `rate_hz` frames a second (1 to
+ * 10,000), with the runtime's defaults: it aims at 90% of the period
+ * (less where the frames vary more), changes nothing while the frames lie
+ * in a dead band below that, and keeps switches from flickering. On
+ * success `*out` is a new scheduler the caller frees with
+ * `acuity_scheduler_free`.
+ *
+ * Each frame: `acuity_scheduler_apply` before `acuity_selector_select`,
+ * `acuity_scheduler_observe` with the frame's measured time after it was
+ * drawn. For the budgeted spending of `s` (no reversals under the
+ * reactive scheduler) create the selector with `budgeted_scale`; for
+ * flicker-free switching, set `switch_min_dwell_s` (0.3 s) and
+ * `switch_hysteresis` (0.15), as the command line's scheduled policies
+ * do.
+ *
+ * # Safety
+ * `out` must be NULL (refused) or valid for writing a pointer.
+ */
+enum AcuityStatus acuity_scheduler_new(uint32_t kind, float rate_hz, struct AcuityScheduler **out);
+
+/**
+ * Frees a scheduler. NULL does nothing.
+ *
+ * # Safety
+ * `scheduler` must be NULL or a scheduler from this library not freed
+ * yet, and no other call may be using it.
+ */
+enum AcuityStatus acuity_scheduler_free(struct AcuityScheduler *scheduler);
+
+/**
+ * Sets the selector's knob for the next `acuity_selector_select`: the
+ * reactive scheduler's `s` (replacing `acuity_selector_set_scale`'s), or
+ * the predictive scheduler's triangle budget (replacing
+ * `acuity_selector_set_budget`'s; `s` back to 1).
+ *
+ * # Safety
+ * `scheduler` must be NULL (refused) or a live scheduler, `selector`
+ * NULL (refused) or a live selector, each used by no other thread.
+ */
+enum AcuityStatus acuity_scheduler_apply(struct AcuityScheduler *scheduler,
+                                         struct AcuitySelector *selector);
+
+/**
+ * Tells the scheduler the measured time of the frame just drawn, s
+ * (finite, > 0: the wall time from one frame's start to the next's, or
+ * the CPU and GPU time your engine measures), and reads the triangles
+ * the selector chose for it and its coarsest triangles (the cost floor).
+ *
+ * # Safety
+ * `scheduler` must be NULL (refused) or a live scheduler, `selector`
+ * NULL (refused) or a live selector, each used by no other thread.
+ */
+enum AcuityStatus acuity_scheduler_observe(struct AcuityScheduler *scheduler,
+                                           float frame_time_s,
+                                           const struct AcuitySelector *selector);
+
+/**
+ * Tells the predictive scheduler of extra work the next frame will do
+ * (a shader to compile, a chunk to stream in), s (finite, >= 0): that
+ * frame's budget leaves room for it, and the load is not learnt as the
+ * scene's cost. Call it before `acuity_scheduler_apply`. The reactive
+ * scheduler has no cost model to budget a load with: it refuses the
+ * call (`ACUITY_INVALID_ARGUMENT`).
+ *
+ * # Safety
+ * `scheduler` must be NULL (refused) or a live scheduler no other thread
+ * uses.
+ */
+enum AcuityStatus acuity_scheduler_announce_load(struct AcuityScheduler *scheduler, float extra_s);
+
+/**
+ * Writes what the scheduler holds into `*out` (see
+ * `AcuitySchedulerState`).
+ *
+ * # Safety
+ * `scheduler` must be NULL (refused) or a live scheduler no other thread
+ * uses; `out` NULL (refused) or valid for writing an
+ * `AcuitySchedulerState`.
+ */
+enum AcuityStatus acuity_scheduler_state(struct AcuityScheduler *scheduler,
+                                         struct AcuitySchedulerState *out);
+
+/**
  * Creates a selector for `display` with `settings` (NULL: the defaults
  * of `acuity_settings_default`). On success `*out` is a new selector the
  * caller frees with `acuity_selector_free`; its scale `s` is 1.
@@ -616,6 +755,21 @@ enum AcuityStatus acuity_selector_set_lod_range(struct AcuitySelector *selector,
  * uses.
  */
 enum AcuityStatus acuity_selector_set_scale(struct AcuitySelector *selector, float s);
+
+/**
+ * Sets the triangle budget of the next frames: `acuity_selector_select`
+ * then chooses the LODs at the selector's `s` and, where they draw more
+ * than `triangles` (single-LOD objects included), coarsens first where
+ * the predicted visibility per triangle saved is lowest (the settings'
+ * `budget_rule`), down to `min_scale`. `ACUITY_NO_BUDGET` turns the
+ * budget off (the default). A predictive scheduler sets it
+ * (`acuity_scheduler_apply`).
+ *
+ * # Safety
+ * `selector` must be NULL (refused) or a live selector no other thread
+ * uses.
+ */
+enum AcuityStatus acuity_selector_set_budget(struct AcuitySelector *selector, uint64_t triangles);
 
 /**
  * Selects every object's LOD for one frame. Read the results with

@@ -23,13 +23,19 @@
 //! 3. Every frame: [`acuity_selector_select`] with the camera, the gaze
 //!    and the time step; then [`acuity_selector_changes`] (with
 //!    `track_changes` on) or [`acuity_selector_lods`] for the LODs to draw.
+//! 4. To hold a frame rate: a scheduler ([`acuity_scheduler_new`]),
+//!    [`acuity_scheduler_apply`] before each selection and
+//!    [`acuity_scheduler_observe`] with each frame's measured time after
+//!    it; or a triangle budget of your own ([`acuity_selector_set_budget`]).
 //!
 //! # Ownership
 //!
 //! - An `AcuityProfile*` from [`acuity_profile_from_bytes`] or
 //!   [`acuity_profile_load`] belongs to the caller until
 //!   [`acuity_profile_free`]; an `AcuitySelector*` from
-//!   [`acuity_selector_new`] until [`acuity_selector_free`]. Freeing NULL
+//!   [`acuity_selector_new`] until [`acuity_selector_free`]; an
+//!   `AcuityScheduler*` from [`acuity_scheduler_new`] until
+//!   [`acuity_scheduler_free`]. Freeing NULL
 //!   does nothing; freeing twice, or using a handle after freeing it, is
 //!   undefined behaviour (as with `free`).
 //! - Every pointer passed in is borrowed for the call only: the library
@@ -66,6 +72,7 @@
 
 mod error;
 mod profile;
+mod scheduler;
 mod selector;
 mod types;
 
@@ -74,17 +81,22 @@ pub use profile::{
     AcuityProfile, acuity_profile_free, acuity_profile_from_bytes, acuity_profile_info,
     acuity_profile_load,
 };
+pub use scheduler::{
+    AcuityScheduler, acuity_scheduler_announce_load, acuity_scheduler_apply, acuity_scheduler_free,
+    acuity_scheduler_new, acuity_scheduler_observe, acuity_scheduler_state,
+};
 pub use selector::{
     AcuitySelector, acuity_selector_add_object, acuity_selector_add_profile,
     acuity_selector_changes, acuity_selector_fades, acuity_selector_free, acuity_selector_lod,
     acuity_selector_lods, acuity_selector_new, acuity_selector_remove_object,
-    acuity_selector_select, acuity_selector_set_bias, acuity_selector_set_lod_range,
-    acuity_selector_set_pose, acuity_selector_set_radius, acuity_selector_set_scale,
-    acuity_selector_stats,
+    acuity_selector_select, acuity_selector_set_bias, acuity_selector_set_budget,
+    acuity_selector_set_lod_range, acuity_selector_set_pose, acuity_selector_set_radius,
+    acuity_selector_set_scale, acuity_selector_stats,
 };
 pub use types::{
-    ACUITY_LOD_CULLED, ACUITY_NO_OBJECT, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD,
-    ACUITY_TRACKER_NONE, AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame, AcuityObject,
-    AcuityObjectDesc, AcuityProfileInfo, AcuityQuat, AcuitySettings, AcuityStats, AcuityVec3d,
+    ACUITY_LOD_CULLED, ACUITY_NO_BUDGET, ACUITY_NO_OBJECT, ACUITY_SCHEDULER_PREDICTIVE,
+    ACUITY_SCHEDULER_REACTIVE, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD, ACUITY_TRACKER_NONE,
+    AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame, AcuityObject, AcuityObjectDesc,
+    AcuityProfileInfo, AcuityQuat, AcuitySchedulerState, AcuitySettings, AcuityStats, AcuityVec3d,
     AcuityVec3f, acuity_frame_default, acuity_settings_default,
 };

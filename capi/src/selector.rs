@@ -15,7 +15,7 @@ use crate::error::{
 };
 use crate::profile::AcuityProfile;
 use crate::types::{
-    ACUITY_LOD_CULLED, ACUITY_NO_OBJECT, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD,
+    ACUITY_LOD_CULLED, ACUITY_NO_BUDGET, ACUITY_NO_OBJECT, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD,
     ACUITY_TRACKER_NONE, AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame, AcuityObject,
     AcuityObjectDesc, AcuityQuat, AcuitySettings, AcuityStats, AcuityVec3d,
 };
@@ -28,6 +28,8 @@ pub struct AcuitySelector {
     inner: Selector,
     /// The global scale `s` of the frames, in (0, 1].
     scale: f32,
+    /// The frames' triangle budget, if any (`acuity_selector_set_budget`).
+    budget: Option<u64>,
     /// Profile indices handed out -> the runtime's ids.
     profiles: Vec<ProfileId>,
     /// Object handles: `(generation << 32) | (entry + 1)`.
@@ -76,6 +78,30 @@ impl AcuitySelector {
         }
     }
 
+    /// Sets the knobs of the next frames: `s` (in (0, 1]) and the
+    /// triangle budget (`None`: none).
+    pub(crate) fn set_knobs(&mut self, scale: f32, budget: Option<u64>) {
+        self.scale = scale;
+        self.budget = budget;
+    }
+
+    /// The triangles of the last frame's selections, and of every visible
+    /// object's coarsest LOD.
+    pub(crate) fn triangles(&self) -> (u64, u64) {
+        (self.inner.triangles(), self.inner.coarsest_triangles())
+    }
+
+    /// Refuses a selector a panic went through.
+    pub(crate) fn check_usable(&self) -> Result<()> {
+        if self.poisoned {
+            return Err(Failure::new(
+                AcuityStatus::ACUITY_PANIC,
+                "this selector is unusable after an internal panic; free it",
+            ));
+        }
+        Ok(())
+    }
+
     fn profile(&self, index: u32) -> Result<ProfileId> {
         self.profiles.get(index as usize).copied().ok_or_else(|| {
             Failure::new(
@@ -90,7 +116,7 @@ impl AcuitySelector {
 }
 
 /// Runs a call on a live, unpoisoned selector; a panic poisons it.
-fn with_selector(
+pub(crate) fn with_selector(
     selector: *mut AcuitySelector,
     body: impl FnOnce(&mut AcuitySelector) -> Result<()>,
 ) -> AcuityStatus {
@@ -98,12 +124,7 @@ fn with_selector(
         // SAFETY: every entry point taking a selector requires it to be
         // NULL (refused here) or live and used by no other thread.
         let s = unsafe { borrow_mut(selector, "selector") }?;
-        if s.poisoned {
-            return Err(Failure::new(
-                AcuityStatus::ACUITY_PANIC,
-                "this selector is unusable after an internal panic; free it",
-            ));
-        }
+        s.check_usable()?;
         match catch_unwind(AssertUnwindSafe(|| body(s))) {
             Ok(result) => result,
             Err(payload) => {
@@ -148,6 +169,7 @@ pub unsafe extern "C" fn acuity_selector_new(
         let selector = AcuitySelector {
             inner: Selector::new(display, settings.to_runtime()?),
             scale: 1.0,
+            budget: None,
             profiles: Vec::new(),
             entries: Vec::new(),
             free_entries: Vec::new(),
@@ -383,6 +405,28 @@ pub unsafe extern "C" fn acuity_selector_set_scale(
     })
 }
 
+/// Sets the triangle budget of the next frames: `acuity_selector_select`
+/// then chooses the LODs at the selector's `s` and, where they draw more
+/// than `triangles` (single-LOD objects included), coarsens first where
+/// the predicted visibility per triangle saved is lowest (the settings'
+/// `budget_rule`), down to `min_scale`. `ACUITY_NO_BUDGET` turns the
+/// budget off (the default). A predictive scheduler sets it
+/// (`acuity_scheduler_apply`).
+///
+/// # Safety
+/// `selector` must be NULL (refused) or a live selector no other thread
+/// uses.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn acuity_selector_set_budget(
+    selector: *mut AcuitySelector,
+    triangles: u64,
+) -> AcuityStatus {
+    with_selector(selector, |s| {
+        s.budget = (triangles != ACUITY_NO_BUDGET).then_some(triangles);
+        Ok(())
+    })
+}
+
 /// Selects every object's LOD for one frame. Read the results with
 /// `acuity_selector_changes`, `acuity_selector_lods`,
 /// `acuity_selector_lod`, `acuity_selector_fades` and
@@ -431,7 +475,7 @@ pub unsafe extern "C" fn acuity_selector_select(
             h => s.id(h).ok(),
         };
         let orientation: Quat = f.camera_orientation.into();
-        s.inner.select(&FrameInput {
+        let frame = FrameInput {
             camera: Camera {
                 position: f.camera_position.into(),
                 orientation,
@@ -443,7 +487,13 @@ pub unsafe extern "C" fn acuity_selector_select(
             },
             dt_s,
             scale: s.scale,
-        })?;
+        };
+        match s.budget {
+            Some(budget) => {
+                s.inner.select_within_budget(&frame, budget)?;
+            }
+            None => s.inner.select(&frame)?,
+        }
         Ok(())
     })
 }

@@ -14,6 +14,18 @@ pub type AcuityObject = u64;
 /// No object (a frame's `pursued` when the eyes pursue nothing).
 pub const ACUITY_NO_OBJECT: AcuityObject = 0;
 
+/// A triangle budget that is off (`acuity_selector_set_budget`,
+/// `AcuitySchedulerState::budget`).
+pub const ACUITY_NO_BUDGET: u64 = u64::MAX;
+
+/// `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
+/// turns the selector's `s` from the measured frame times.
+pub const ACUITY_SCHEDULER_REACTIVE: u32 = 0;
+/// `acuity_scheduler_new`'s kind: the predictive controller, which sets a
+/// triangle budget from a cost model of the measured frames (Funkhouser &
+/// Séquin 1993), spent by best effort.
+pub const ACUITY_SCHEDULER_PREDICTIVE: u32 = 1;
+
 /// The LOD value of an object that is culled (outside the view, behind
 /// the camera, or not selected yet).
 pub const ACUITY_LOD_CULLED: u8 = 255;
@@ -192,6 +204,26 @@ pub struct AcuityFade {
     pub to_lod: u32,
     /// How far the fade has gone, in [0, 1).
     pub fraction: f32,
+}
+
+/// What a scheduler holds after the frames it saw.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AcuitySchedulerState {
+    /// The `s` it sets, in (0, 1] (1 for the predictive scheduler).
+    pub scale: f32,
+    /// The triangle budget it sets (`ACUITY_NO_BUDGET` for the reactive
+    /// scheduler).
+    pub budget: u64,
+    /// The frame time it aims at, s: a fraction of the period, lower where
+    /// the frames vary more.
+    pub aim_s: f32,
+    /// 1 when the last frame's cost floor (its time at every object's
+    /// coarsest LOD) lay above the period: no LOD choice reaches the rate,
+    /// and the scheduler does not lower detail for it. 0 otherwise, and
+    /// while the floor is unknown (the reactive scheduler does not know
+    /// it).
+    pub target_unreachable: u8,
 }
 
 /// Counts after the last frame.

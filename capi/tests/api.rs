@@ -650,3 +650,175 @@ fn fades_are_listed_with_handles() {
         acuity_selector_free(s);
     }
 }
+
+/// A selector with `n` demo objects spread over 3 to 3 + 4n m in front of
+/// the camera, created with `settings`.
+fn scene(settings: &AcuitySettings, n: u32) -> *mut AcuitySelector {
+    let mut s = null_mut();
+    // SAFETY: live structs, selector and out-pointers throughout.
+    unsafe {
+        expect(acuity_selector_new(&DISPLAY, settings, &mut s), ACUITY_OK);
+        let p = demo();
+        expect(acuity_selector_add_profile(s, p, &mut 0), ACUITY_OK);
+        expect(acuity_profile_free(p), ACUITY_OK);
+        for i in 0..n {
+            let mut d = desc(-3.0 - 4.0 * f64::from(i));
+            d.center.x = f64::from(i % 7) - 3.0;
+            expect(acuity_selector_add_object(s, &d, &mut 0), ACUITY_OK);
+        }
+    }
+    s
+}
+
+fn triangles(s: *mut AcuitySelector) -> u64 {
+    let mut stats = AcuityStats::default();
+    // SAFETY: live selector and out-pointer.
+    expect(unsafe { acuity_selector_stats(s, &mut stats) }, ACUITY_OK);
+    stats.triangles
+}
+
+#[test]
+fn a_triangle_budget_is_met_and_can_be_turned_off() {
+    let s = scene(&AcuitySettings::default(), 40);
+    let frame = AcuityFrame::default();
+    expect(select(s, &frame), ACUITY_OK);
+    let free = triangles(s);
+    // SAFETY: live selector throughout.
+    unsafe {
+        expect(acuity_selector_set_budget(s, free / 3), ACUITY_OK);
+        expect(select(s, &frame), ACUITY_OK);
+        let within = triangles(s);
+        assert!(
+            within <= free / 3,
+            "{within} triangles for a budget of {}",
+            free / 3
+        );
+        assert!(within > 0);
+        expect(acuity_selector_set_budget(s, ACUITY_NO_BUDGET), ACUITY_OK);
+        expect(select(s, &frame), ACUITY_OK);
+        assert_eq!(triangles(s), free);
+        expect(
+            acuity_selector_set_budget(null_mut(), 10),
+            ACUITY_NULL_POINTER,
+        );
+        acuity_selector_free(s);
+    }
+}
+
+#[test]
+fn both_schedulers_hold_a_rate_from_c() {
+    // A plant: 2 ms of fixed time and a cost per triangle that makes full
+    // detail take 3x the 60 Hz period; every object's coarsest LOD fits.
+    let period_s = 1.0 / 60.0;
+    for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
+        let s = scene(&AcuitySettings::default(), 40);
+        let frame = AcuityFrame {
+            dt_s: period_s,
+            ..AcuityFrame::default()
+        };
+        expect(select(s, &frame), ACUITY_OK);
+        let per_triangle_s = (3.0 * period_s - 2e-3) / triangles(s) as f32;
+        let mut sched = null_mut();
+        let mut late = Vec::new();
+        // SAFETY: live scheduler, selector and out-pointers throughout.
+        unsafe {
+            expect(acuity_scheduler_new(kind, 60.0, &mut sched), ACUITY_OK);
+            for k in 0..200 {
+                expect(acuity_scheduler_apply(sched, s), ACUITY_OK);
+                expect(select(s, &frame), ACUITY_OK);
+                let t = 2e-3 + triangles(s) as f32 * per_triangle_s;
+                if t > period_s {
+                    late.push(k);
+                }
+                expect(acuity_scheduler_observe(sched, t, s), ACUITY_OK);
+            }
+            let mut state = AcuitySchedulerState::default();
+            expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
+            assert!(state.aim_s > 0.5 * period_s && state.aim_s < period_s);
+            match kind {
+                ACUITY_SCHEDULER_REACTIVE => {
+                    assert!(state.scale < 1.0 && state.budget == ACUITY_NO_BUDGET);
+                }
+                _ => assert!(state.scale == 1.0 && state.budget < 4000 * 40),
+            }
+            expect(acuity_scheduler_free(sched), ACUITY_OK);
+            acuity_selector_free(s);
+        }
+        assert!(
+            late.iter().all(|&k| k < 10),
+            "kind {kind}: late frames {late:?}"
+        );
+    }
+}
+
+#[test]
+fn schedulers_refuse_bad_input_by_name() {
+    let s = scene(&AcuitySettings::default(), 3);
+    let mut sched = null_mut();
+    // SAFETY: live or NULL pointers as each call documents.
+    unsafe {
+        let m = expect(
+            acuity_scheduler_new(7, 60.0, &mut sched),
+            ACUITY_INVALID_ARGUMENT,
+        );
+        assert!(m.contains("kind"), "{m}");
+        for rate_hz in [0.0, -5.0, f32::NAN, f32::INFINITY, 1e6] {
+            expect(
+                acuity_scheduler_new(ACUITY_SCHEDULER_REACTIVE, rate_hz, &mut sched),
+                ACUITY_INVALID_ARGUMENT,
+            );
+        }
+        expect(
+            acuity_scheduler_new(ACUITY_SCHEDULER_REACTIVE, 60.0, null_mut()),
+            ACUITY_NULL_POINTER,
+        );
+        expect(
+            acuity_scheduler_new(ACUITY_SCHEDULER_REACTIVE, 90.0, &mut sched),
+            ACUITY_OK,
+        );
+        for t in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            let m = expect(
+                acuity_scheduler_observe(sched, t, s),
+                ACUITY_INVALID_ARGUMENT,
+            );
+            assert!(m.contains("frame_time_s"), "{m}");
+        }
+        expect(
+            acuity_scheduler_observe(sched, 0.01, null()),
+            ACUITY_NULL_POINTER,
+        );
+        expect(
+            acuity_scheduler_observe(null_mut(), 0.01, s),
+            ACUITY_NULL_POINTER,
+        );
+        expect(
+            acuity_scheduler_apply(sched, null_mut()),
+            ACUITY_NULL_POINTER,
+        );
+        expect(acuity_scheduler_apply(null_mut(), s), ACUITY_NULL_POINTER);
+        expect(
+            acuity_scheduler_state(sched, null_mut()),
+            ACUITY_NULL_POINTER,
+        );
+        let m = expect(
+            acuity_scheduler_announce_load(sched, 0.005),
+            ACUITY_INVALID_ARGUMENT,
+        );
+        assert!(m.contains("reactive"), "{m}");
+        expect(acuity_scheduler_free(sched), ACUITY_OK);
+        expect(
+            acuity_scheduler_new(ACUITY_SCHEDULER_PREDICTIVE, 90.0, &mut sched),
+            ACUITY_OK,
+        );
+        expect(acuity_scheduler_announce_load(sched, 0.005), ACUITY_OK);
+        for extra_s in [-1.0, f32::NAN] {
+            expect(
+                acuity_scheduler_announce_load(sched, extra_s),
+                ACUITY_INVALID_ARGUMENT,
+            );
+        }
+        expect(acuity_scheduler_free(sched), ACUITY_OK);
+        expect(acuity_scheduler_free(null_mut()), ACUITY_OK);
+        acuity_selector_free(s);
+    }
+}
