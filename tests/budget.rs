@@ -622,3 +622,33 @@ fn the_dwell_time_follows_an_object_moved_to_another_slot() {
         "coarsened back 1/30 s after refining"
     );
 }
+
+#[test]
+fn the_selection_visibility_is_0_at_s_1_and_grows_as_s_falls() {
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    let (mut plain, _) = random_scene(SelectorSettings::default(), 2000, 6, DVec3::ZERO);
+    plain.select(&frame).unwrap();
+    assert_eq!(
+        plain.selection_visibility_deg(),
+        None,
+        "no thresholds recorded"
+    );
+    let recording = SelectorSettings {
+        switch_hysteresis: 0.1,
+        ..SelectorSettings::default()
+    };
+    let (mut at_one, _) = random_scene(recording, 2000, 6, DVec3::ZERO);
+    at_one.select(&frame).unwrap();
+    assert_eq!(at_one.selection_visibility_deg(), Some(0.0));
+    let mut last = 0.0;
+    for scale in [0.5, 0.2, 0.05] {
+        let (mut sel, _) = random_scene(budgeted_scale(), 2000, 6, DVec3::ZERO);
+        sel.select(&with_scale(frame, scale)).unwrap();
+        let v = sel.selection_visibility_deg().unwrap();
+        assert!(
+            v.is_finite() && v > last,
+            "s = {scale}: {v}, {last} at the s before"
+        );
+        last = v;
+    }
+}

@@ -107,6 +107,9 @@ pub struct FrameRecord {
     pub target_unreachable: Option<bool>,
     /// Whether the frame fell in a load spike ([`PlaySettings::load_spikes`]).
     pub in_spike: bool,
+    /// The selection's visibility in best effort's measure, deg
+    /// ([`crate::policy::Choice::visibility_deg`]).
+    pub visibility_deg: Option<f64>,
     /// Mean per-pixel FLIP against full detail, on sampled frames.
     pub flip_mean: Option<f32>,
     /// 95th percentile of per-pixel FLIP, on sampled frames.
@@ -384,6 +387,7 @@ impl<'w> Player<'w> {
                     triangle_budget: choice.triangle_budget,
                     target_unreachable: runner.target_unreachable(),
                     in_spike: spike.is_some(),
+                    visibility_deg: choice.visibility_deg,
                     flip_mean: None,
                     flip_p95: None,
                 };

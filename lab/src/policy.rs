@@ -76,6 +76,10 @@ pub struct Choice {
     pub scale: f32,
     /// Triangle budget of the predictive scheduler, if it set one.
     pub triangle_budget: Option<u64>,
+    /// The selection's visibility in best effort's measure, deg
+    /// (`Selector::selection_visibility_deg`), where the selector recorded
+    /// thresholds; `None` for screen size and full detail.
+    pub visibility_deg: Option<f64>,
 }
 
 /// A policy's fixed-frame-rate controller.
@@ -313,6 +317,7 @@ impl PolicyRunner {
         let mut choice = Choice {
             scale,
             triangle_budget: None,
+            visibility_deg: None,
         };
         let budget = match (&mut self.scheduler, self.budget_share) {
             (Some(Scheduler::Predictive(p)), _) => Some(p.triangle_budget()),
@@ -328,9 +333,16 @@ impl PolicyRunner {
                 choice = Choice {
                     scale: out.scale,
                     triangle_budget: Some(budget),
+                    visibility_deg: None,
                 };
             }
             None => self.selector.select(&frame)?,
+        }
+        if !matches!(
+            self.policy,
+            Policy::Full | Policy::ScreenSize | Policy::ScreenSizeReactive
+        ) {
+            choice.visibility_deg = self.selector.selection_visibility_deg();
         }
         if self.budget_share.is_some() {
             self.full_detail_triangles = world

@@ -59,6 +59,10 @@ pub struct Summary {
     /// pixels and frames of FovVideoVDP's per-pixel distortion map, JOD
     /// lost; `None` unless scored ([`attach_jod`]).
     pub jod_local_p999: Option<f64>,
+    /// Mean over frames of the selection's visibility in best effort's
+    /// measure, deg (`Selector::selection_visibility_deg`); `None` where
+    /// no frame recorded it.
+    pub visibility_deg: Option<f64>,
 }
 
 /// A per-frame count's total over a run per second of simulated time from
@@ -129,6 +133,8 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                 reversals_per_s: per_second(r, |f| f.lod_reversals),
                 jod: None,
                 jod_local_p999: None,
+                visibility_deg: Some(mean(r.frames.iter().filter_map(|f| f.visibility_deg)))
+                    .filter(|v| v.is_finite()),
             }
         })
         .collect()
@@ -242,14 +248,14 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// The per-frame CSV: one row per policy and frame.
 pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike,selection_visibility_deg\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{}",
                 f.policy.name(),
                 f.frame,
                 f.t_s,
@@ -267,6 +273,7 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
                 f.lod_reversals,
                 o(f.target_unreachable.map(|u| u32::from(u).to_string())),
                 u32::from(f.in_spike),
+                o(f.visibility_deg.map(|v| format!("{v:.4}"))),
             );
         }
     }

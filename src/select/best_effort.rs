@@ -248,6 +248,36 @@ impl Selector {
         }
     }
 
+    /// The last frame's selection in this module's measure of visibility:
+    /// the sum over the visible objects with more than one LOD of
+    /// `theta ln(max(1, v))` for the LOD each draws (`theta` its angular
+    /// size, deg; `v = k / q`, `k` its threshold at `s = 1` and `q` the
+    /// prefix minimum of the transitions up to that LOD), in deg. 0 when
+    /// every object draws a LOD invisible on its own at `s = 1`; larger
+    /// the further, and on the larger objects, the LODs drawn lie beyond.
+    /// An estimate of how much of the image differs from full detail, as
+    /// best effort ranks steps by it; `None` when the frame recorded no
+    /// thresholds (a plain [`Selector::select`] without
+    /// [`SelectorSettings::switch_hysteresis`](super::SelectorSettings::switch_hysteresis),
+    /// or [`ScaleRule::Budgeted`](super::ScaleRule::Budgeted) at `s = 1`).
+    /// One pass over the objects.
+    pub fn selection_visibility_deg(&self) -> Option<f64> {
+        let scale = self.recorded_scale?;
+        let mut sum = 0.0f64;
+        for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
+            let lod = match self.selections[slot].lod() {
+                Some(lod) if lod > 0 && entry.row != u32::MAX => lod,
+                _ => continue,
+            };
+            let q = self.rows[entry.row as usize + lod - 1];
+            let v = f64::from(entry.k_cdiam) / f64::from(scale) / f64::from(q);
+            if v.is_finite() && v > 1.0 {
+                sum += f64::from(entry.angular_size_deg) * v.ln();
+            }
+        }
+        Some(sum)
+    }
+
     /// The LOD the object in `slot` had last frame (0 when it was culled
     /// or new): steps up to it were taken then.
     fn kept_lod(&self, slot: usize) -> usize {

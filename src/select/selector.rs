@@ -137,6 +137,9 @@ pub struct Selector {
     /// and per slot when and which way its selection last changed.
     pub(super) clock_s: f64,
     pub(super) last_switch: Vec<LastSwitch>,
+    /// The `s` the last frame's thresholds (`budget`) were recorded at;
+    /// `None` when that frame recorded none.
+    pub(super) recorded_scale: Option<f32>,
 }
 
 impl Selector {
@@ -178,6 +181,7 @@ impl Selector {
             adjusted_of: Vec::new(),
             clock_s: 0.0,
             last_switch: Vec::new(),
+            recorded_scale: None,
         }
     }
 
@@ -664,6 +668,7 @@ impl Selector {
             scale_override,
         )?;
         c.pursued = self.pursued_slot(frame.gaze.pursued);
+        self.recorded_scale = budget.then_some(c.scale);
         self.gaze_world = gaze_world;
         self.in_saccade = in_saccade;
         let multi = self.object_profiles.len();

@@ -375,13 +375,13 @@ impl ErrorSweep {
     /// The rows as `error.csv` holds them, with its header.
     pub fn csv(&self) -> String {
         let mut csv = String::from(
-            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999\n",
+            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999,selection_visibility_deg\n",
         );
         for r in &self.rows {
             let s = &r.summary;
             let _ = writeln!(
                 csv,
-                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{}",
+                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{},{}",
                 s.policy.name(),
                 s.knob,
                 s.mean_ms,
@@ -396,6 +396,7 @@ impl ErrorSweep {
                 text(r.vs_screen_size_jod, &|r| format!("{r:.4}"), ""),
                 s.reversals_per_s,
                 text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
+                text(s.visibility_deg, &|r| format!("{r:.4}"), ""),
             );
         }
         csv
