@@ -21,7 +21,10 @@
 //! [`BudgetRule`]: the loop plus the budget's own work.
 //! `single_thread_budgeted_scale` (1e5 and 1e6) selects at `s = 0.5` with
 //! [`ScaleRule::Budgeted`]: the triangles that `s` draws, spent best
-//! effort (at `s = 1` it is the plain loop).
+//! effort (at `s = 1` it is the plain loop). `single_thread_pooled` (1e5
+//! and 1e6) selects at `s = 1` with that rule and a visibility budget
+//! ([`SelectorSettings::visibility_budget_deg`], 12 deg): a budgeted
+//! selection every frame.
 //!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
@@ -54,6 +57,8 @@ enum Extras {
     Budget(BudgetRule),
     /// Selection at `s = 0.5` spent as a budget.
     BudgetedScale,
+    /// Selection at `s = 1` with a visibility budget.
+    Pooled,
 }
 
 fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
@@ -68,11 +73,12 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
             Extras::Budget(rule) => rule,
             _ => BudgetRule::default(),
         },
-        scale_rule: if extras == Extras::BudgetedScale {
+        scale_rule: if matches!(extras, Extras::BudgetedScale | Extras::Pooled) {
             ScaleRule::Budgeted
         } else {
             ScaleRule::Uniform
         },
+        visibility_budget_deg: if extras == Extras::Pooled { 12.0 } else { 0.0 },
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);
@@ -183,10 +189,18 @@ fn bench_select(c: &mut Criterion) {
                 SimdLevel::Widest,
                 Extras::BudgetedScale,
             ),
+            (
+                "single_thread_pooled",
+                false,
+                SimdLevel::Widest,
+                Extras::Pooled,
+            ),
         ] {
             let wanted = match extras {
                 Extras::None => true,
-                Extras::Tracked | Extras::Budget(_) | Extras::BudgetedScale => n >= 100_000,
+                Extras::Tracked | Extras::Budget(_) | Extras::BudgetedScale | Extras::Pooled => {
+                    n >= 100_000
+                }
                 Extras::Adjusted => n == 100_000,
             };
             if !wanted {

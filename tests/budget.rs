@@ -315,14 +315,21 @@ fn coarsest_triangles_count_the_visible_objects_at_their_last_lod() {
     assert!(sel.coarsest_triangles() <= sel.triangles());
 }
 
-#[test]
-fn min_dwell_holds_a_coarsening_until_the_lod_has_been_held_that_long() {
+/// The same 2000 objects in a selector with `switch_min_dwell_s` and in
+/// one without.
+fn with_dwell_and_plain(dwell_s: f32) -> (Selector, Selector, Vec<ObjectId>) {
     let settings = SelectorSettings {
-        switch_min_dwell_s: 0.25,
+        switch_min_dwell_s: dwell_s,
         ..SelectorSettings::default()
     };
-    let (mut sel, ids) = random_scene(settings, 2000, 9, DVec3::ZERO);
-    let (mut plain, _) = random_scene(SelectorSettings::default(), 2000, 9, DVec3::ZERO);
+    let (sel, ids) = random_scene(settings, 2000, 9, DVec3::ZERO);
+    let (plain, _) = random_scene(SelectorSettings::default(), 2000, 9, DVec3::ZERO);
+    (sel, plain, ids)
+}
+
+#[test]
+fn min_dwell_holds_a_coarsening_until_the_lod_has_been_held_that_long() {
+    let (mut sel, mut plain, ids) = with_dwell_and_plain(0.25);
     let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
     let mut plain_at = |s: f32| {
         plain.select(&with_scale(frame, s)).unwrap();
@@ -513,12 +520,7 @@ fn min_dwell_lets_a_coarsening_follow_a_coarsening_at_once() {
     // frame; each lower `s` must show in the next frame's LODs, or the
     // frame times it learns from lag the dwell time behind. Only a switch
     // back the other way waits.
-    let settings = SelectorSettings {
-        switch_min_dwell_s: 0.3,
-        ..SelectorSettings::default()
-    };
-    let (mut sel, ids) = random_scene(settings, 2000, 9, DVec3::ZERO);
-    let (mut plain, _) = random_scene(SelectorSettings::default(), 2000, 9, DVec3::ZERO);
+    let (mut sel, mut plain, ids) = with_dwell_and_plain(0.3);
     let frame = frame_at(DVec3::ZERO, 1.0 / 30.0);
     let scales = [1.0, 0.5, 0.25, 0.125, 0.0625];
     let mut plain_lods = Vec::new();
@@ -650,5 +652,58 @@ fn the_selection_visibility_is_0_at_s_1_and_grows_as_s_falls() {
             "s = {scale}: {v}, {last} at the s before"
         );
         last = v;
+    }
+}
+
+fn visibility_budgeted(visibility_budget_deg: f32) -> SelectorSettings {
+    SelectorSettings {
+        visibility_budget_deg,
+        ..budgeted_scale()
+    }
+}
+
+#[test]
+fn a_visibility_budget_spends_its_degrees_at_s_1_and_no_more() {
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    let (mut off, _) = random_scene(budgeted_scale(), 3000, 8, DVec3::ZERO);
+    off.select(&frame).unwrap();
+    let mut last = off.triangles();
+    let mut spent = 0.0;
+    for budget_deg in [0.5, 2.0, 8.0, 32.0] {
+        let (mut sel, _) = random_scene(visibility_budgeted(budget_deg), 3000, 8, DVec3::ZERO);
+        sel.select(&frame).unwrap();
+        let shown = sel.selection_visibility_deg().unwrap();
+        assert!(
+            shown <= f64::from(budget_deg) * 1.0001,
+            "{budget_deg} deg: {shown} deg shown"
+        );
+        assert!(
+            shown >= spent,
+            "{budget_deg} deg: {shown} deg, {spent} for less"
+        );
+        assert!(sel.triangles() <= last, "{budget_deg} deg drew more");
+        spent = shown;
+        last = sel.triangles();
+    }
+    assert!(last < off.triangles(), "32 deg saved nothing");
+    assert!(spent > 16.0, "32 deg spent only {spent}");
+    // Off for 0, NaN, negative and infinite budgets: as without.
+    for budget_deg in [0.0, f32::NAN, -1.0, f32::INFINITY] {
+        let (mut sel, _) = random_scene(visibility_budgeted(budget_deg), 3000, 8, DVec3::ZERO);
+        sel.select(&frame).unwrap();
+        assert_eq!(sel.triangles(), off.triangles(), "{budget_deg}");
+    }
+}
+
+#[test]
+fn below_s_1_a_visibility_budget_never_draws_more_than_the_budget_from_s() {
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    for scale in [0.7, 0.3, 0.1] {
+        let frame = with_scale(frame, scale);
+        let (mut off, _) = random_scene(budgeted_scale(), 2000, 9, DVec3::ZERO);
+        let (mut on, _) = random_scene(visibility_budgeted(8.0), 2000, 9, DVec3::ZERO);
+        off.select(&frame).unwrap();
+        on.select(&frame).unwrap();
+        assert!(on.triangles() <= off.triangles(), "s = {scale}");
     }
 }

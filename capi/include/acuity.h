@@ -281,6 +281,13 @@ typedef struct AcuitySettings {
      * frame while `s < 1`). Default 0: every object judged at `s`.
      */
     uint32_t budgeted_scale;
+    /**
+     * With `budgeted_scale`: the visibility summed over the image that a
+     * selection may add beyond the LODs each invisible on its own, deg
+     * (finite, >= 0; the runtime's `visibility_budget_deg`; a budgeted
+     * selection per frame at `s = 1` too). Default 0: off.
+     */
+    float visibility_budget_deg;
 } AcuitySettings;
 
 /**

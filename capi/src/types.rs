@@ -121,6 +121,11 @@ pub struct AcuitySettings {
     /// (the runtime's `ScaleRule::Budgeted`; a budgeted selection per
     /// frame while `s < 1`). Default 0: every object judged at `s`.
     pub budgeted_scale: u32,
+    /// With `budgeted_scale`: the visibility summed over the image that a
+    /// selection may add beyond the LODs each invisible on its own, deg
+    /// (finite, >= 0; the runtime's `visibility_budget_deg`; a budgeted
+    /// selection per frame at `s = 1` too). Default 0: off.
+    pub visibility_budget_deg: f32,
 }
 
 /// An object to select LODs for.
@@ -282,6 +287,7 @@ impl Default for AcuitySettings {
             track_changes: d.track_changes.into(),
             cull: d.cull.into(),
             budgeted_scale: (d.scale_rule == acuity::ScaleRule::Budgeted).into(),
+            visibility_budget_deg: d.visibility_budget_deg,
         }
     }
 }
@@ -335,6 +341,10 @@ impl AcuitySettings {
             } else {
                 acuity::ScaleRule::Uniform
             },
+            visibility_budget_deg: non_negative(
+                self.visibility_budget_deg,
+                "settings.visibility_budget_deg",
+            )?,
             ..acuity::SelectorSettings::default()
         })
     }

@@ -238,6 +238,17 @@ fn nan_and_out_of_domain_numbers_are_refused() {
             ACUITY_INVALID_ARGUMENT,
         );
         assert!(out.is_null());
+        for v in [nan, -1.0, f32::INFINITY] {
+            let settings = AcuitySettings {
+                visibility_budget_deg: v,
+                ..AcuitySettings::default()
+            };
+            let m = expect(
+                acuity_selector_new(&DISPLAY, &settings, &mut out),
+                ACUITY_INVALID_ARGUMENT,
+            );
+            assert!(m.contains("visibility_budget_deg"), "{m}");
+        }
 
         let mut bad = desc(-5.0);
         bad.center.x = f64::NAN;
@@ -608,6 +619,20 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
         stats.triangles
     };
     assert_eq!(triangles_at(1, 1.0), triangles_at(0, 1.0));
+    let pooled = AcuitySettings {
+        budgeted_scale: 1,
+        visibility_budget_deg: 50.0,
+        ..AcuitySettings::default()
+    };
+    let s = scene(&pooled, 40);
+    expect(select(s, &AcuityFrame::default()), ACUITY_OK);
+    let with_budget = triangles(s);
+    // SAFETY: from acuity_selector_new, freed once.
+    unsafe { acuity_selector_free(s) };
+    assert!(
+        with_budget < triangles_at(1, 1.0),
+        "a visibility budget of 50 deg saved nothing at s = 1"
+    );
     for scale in [0.5, 0.2, 0.05] {
         let (budgeted, uniform) = (triangles_at(1, scale), triangles_at(0, scale));
         assert!(budgeted <= uniform, "s = {scale}: {budgeted} > {uniform}");

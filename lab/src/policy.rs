@@ -49,6 +49,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityReactiveNoHeadroom
         | Policy::AcuityReactiveBudgeted
         | Policy::AcuityAllBudgeted
+        | Policy::AcuityAllPooled
         | Policy::AcuityPredictiveAnnounced
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
@@ -68,6 +69,24 @@ pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = 0.15;
 /// reversal counter's window), so that a switch the dwell rule holds back
 /// never lands on that window's edge.
 pub const SCHEDULED_MIN_DWELL_S: f32 = 0.3;
+
+/// [`SelectorSettings::visibility_budget_deg`] of [`Policy::AcuityAllPooled`]
+/// on a display of [`VISIBILITY_BUDGET_FIELD_DEG2`], deg: fixed once, from
+/// the budgeted sweeps of `scenes/library.toml`, `scenes/default.toml` and
+/// `scenes/reddy1998.toml` (the library's edge of visibility, 9.75 JOD,
+/// lies at about this much visibility summed over its image).
+pub const VISIBILITY_BUDGET_DEG: f32 = 8.0;
+
+/// The field of view [`VISIBILITY_BUDGET_DEG`] was fixed on, deg²: 43.6 x
+/// 33.4 deg, Reddy 1998's display, which every shipped scene uses.
+pub const VISIBILITY_BUDGET_FIELD_DEG2: f32 = 43.6 * 33.4;
+
+/// [`VISIBILITY_BUDGET_DEG`] for `display`: a sum over the image, so in
+/// proportion to the field of view's area.
+pub fn visibility_budget_deg(display: &acuity::Display) -> f32 {
+    let [x, y] = display.fov_deg();
+    VISIBILITY_BUDGET_DEG * (x * y / VISIBILITY_BUDGET_FIELD_DEG2)
+}
 
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -157,11 +176,18 @@ impl PolicyRunner {
             },
             scale_rule: if matches!(
                 policy,
-                Policy::AcuityAllBudgeted | Policy::AcuityReactiveBudgeted
+                Policy::AcuityAllBudgeted
+                    | Policy::AcuityAllPooled
+                    | Policy::AcuityReactiveBudgeted
             ) {
                 ScaleRule::Budgeted
             } else {
                 ScaleRule::Uniform
+            },
+            visibility_budget_deg: if policy == Policy::AcuityAllPooled {
+                visibility_budget_deg(&world.display)
+            } else {
+                0.0
             },
             budget_hysteresis: if policy == Policy::AcuityPredictiveNoHeadroom {
                 0.0

@@ -65,6 +65,8 @@ struct Step {
     cost: f32,
     /// The scale `s = 1 / v` at which the step becomes invisible.
     scale: f32,
+    /// `theta ln(v)`, deg: the object's visibility at the step's LOD.
+    visibility_deg: f32,
     saved: u32,
     to_lod: u8,
 }
@@ -109,12 +111,15 @@ impl Selector {
     /// (writing their selections, before LOD ranges are applied) so that
     /// the triangles fit `triangle_budget` where the steps allowed reach
     /// it, cheapest step first (see the module docs), taking no step that
-    /// needs `s` below `s_min` (in `(0, s_max]`). Returns the scale reached
-    /// and the triangles drawn (LOD ranges counted).
+    /// needs `s` below `s_min` (in `(0, s_max]`); then, while the steps'
+    /// added visibility (`theta ln v`, summed) stays within
+    /// `allowance_deg`, the next cheapest steps too. Returns the scale
+    /// reached and the triangles drawn (LOD ranges counted).
     pub(super) fn best_effort_within(
         &mut self,
         [s_min, s_max]: [f32; 2],
         triangle_budget: u64,
+        allowance_deg: f32,
         weighted: bool,
         strict_dwell: bool,
     ) -> (f32, u64) {
@@ -135,9 +140,15 @@ impl Selector {
         let h = self.settings.budget_hysteresis;
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
-        // Pass 1: the LODs at `s_max`, and every later step's saving
-        // binned by its cost.
+        // Pass 1: the LODs at `s_max`, and every later step's saving and
+        // added visibility binned by its cost.
         let mut saved_by_bin = [0u64; BINS];
+        let mut visibility_by_bin = [0f32; BINS];
+        let allowance_deg = if allowance_deg > 0.0 {
+            allowance_deg
+        } else {
+            0.0
+        };
         let mut triangles = self.single_triangles();
         for slot in 0..multi {
             let entry = self.budget[slot];
@@ -160,28 +171,51 @@ impl Selector {
             let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
             let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+            let mut shown_deg = self.visibility_at(&entry, p, lod);
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
-                saved_by_bin[bin_of(cost)] += u64::from(step.saved);
+                let bin = bin_of(cost);
+                saved_by_bin[bin] += u64::from(step.saved);
+                visibility_by_bin[bin] += (step.visibility_deg - shown_deg).max(0.0);
+                shown_deg = shown_deg.max(step.visibility_deg);
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
             }
         }
         let mut reached = s_max;
-        if triangles > triangle_budget {
-            let needed = triangles - triangle_budget;
+        if triangles > triangle_budget || allowance_deg > 0.0 {
+            let needed = triangles.saturating_sub(triangle_budget);
             let mut cumulative = 0u64;
-            let threshold = saved_by_bin
-                .iter()
-                .position(|&s| {
-                    cumulative += s;
-                    cumulative >= needed
-                })
-                .unwrap_or(BINS);
+            let for_triangles = if needed == 0 {
+                0
+            } else {
+                saved_by_bin
+                    .iter()
+                    .position(|&s| {
+                        cumulative += s;
+                        cumulative >= needed
+                    })
+                    .unwrap_or(BINS)
+            };
+            let mut shown = 0.0f32;
+            let for_visibility = if allowance_deg > 0.0 {
+                visibility_by_bin
+                    .iter()
+                    .position(|&v| {
+                        shown += v;
+                        shown > allowance_deg
+                    })
+                    .unwrap_or(BINS)
+            } else {
+                0
+            };
+            let threshold = for_triangles.max(for_visibility);
+            let mut added_deg = 0.0f32;
             // Pass 2: every step below the threshold's bin (all of them
-            // are needed); pass 3: in it, steps in object order while the
-            // triangles do not fit. A step left after pass 2 costs at least
-            // the threshold's bin, so pass 3's running maximum can start
-            // from 0.
+            // are needed, or fit the allowance); pass 3: in it, steps in
+            // object order while the triangles do not fit or the step's
+            // visibility fits what is left of the allowance. A step left
+            // after pass 2 costs at least the threshold's bin, so pass 3's
+            // running maximum can start from 0.
             for below in [true, false] {
                 for slot in 0..multi {
                     let entry = self.budget[slot];
@@ -191,20 +225,28 @@ impl Selector {
                     let adjust = adjust_of(slot);
                     let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
+                    let p = self.object_profiles[slot] as usize;
                     let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
                     let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
                     let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+                    let mut shown_deg = self.visibility_at(&entry, p, lod);
                     while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                         cost = cost.max(step.cost_given(kept, keep_factor, beyond));
                         let bin = bin_of(cost);
+                        let adds_deg = (step.visibility_deg - shown_deg).max(0.0);
                         let take = if below {
                             bin < threshold
                         } else {
-                            bin == threshold && triangles > triangle_budget
+                            bin == threshold
+                                && (triangles > triangle_budget
+                                    || (allowance_deg > 0.0
+                                        && added_deg + adds_deg <= allowance_deg))
                         };
                         if !take {
                             break;
                         }
+                        added_deg += adds_deg;
+                        shown_deg = shown_deg.max(step.visibility_deg);
                         triangles -= u64::from(step.saved);
                         reached = reached.min(step.scale);
                         self.selections[slot] = Selection(step.to_lod);
@@ -278,6 +320,22 @@ impl Selector {
         Some(sum)
     }
 
+    /// `theta ln(max(1, v))` of an object of profile `p` at `lod` (its
+    /// entry's threshold at `s = 1`), deg.
+    fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize) -> f32 {
+        if lod == 0 {
+            return 0.0;
+        }
+        let n = self.profiles[p].lod_count;
+        let q = self.rows[entry.row as usize + lod.min(n - 1) - 1];
+        let margin = (entry.k_cdiam / q).max(1.0).ln();
+        if margin.is_finite() {
+            margin * entry.angular_size_deg
+        } else {
+            0.0
+        }
+    }
+
     /// The LOD the object in `slot` had last frame (0 when it was culled
     /// or new): steps up to it were taken then.
     fn kept_lod(&self, slot: usize) -> usize {
@@ -330,6 +388,7 @@ impl Selector {
                 return Some(Step {
                     cost: visibility / saved as f32,
                     scale,
+                    visibility_deg: margin * entry.angular_size_deg,
                     saved,
                     to_lod: (j + 1) as u8,
                 });

@@ -188,6 +188,22 @@ pub struct SelectorSettings {
     /// [`ScaleRule::Uniform`], Reddy 1998's). At `s = 1` both rules choose
     /// the same LODs.
     pub scale_rule: ScaleRule,
+    /// Under [`ScaleRule::Budgeted`], the visibility summed over the image
+    /// that a selection may add beyond what each object shows on its own
+    /// at `s = 1`, deg, in best effort's measure
+    /// ([`Selector::selection_visibility_deg`]): at every `s`, once the
+    /// triangles from `s` fit, best effort keeps taking its cheapest steps
+    /// per triangle saved while their summed visibility stays within this.
+    /// Visible differences add up over an image, and an image-level metric
+    /// (FovVideoVDP) loses about as much per degree of this measure on
+    /// every scene measured, where one `s` costs each scene differently;
+    /// so one budget puts `s = 1` near the edge of visibility on each.
+    /// 0 (the default), NaN, negative and infinite values are off: `s = 1`
+    /// then draws the LODs each invisible on its own. Measured with a
+    /// display of 43.6 x 33.4 deg; the budget is a sum over the image, so
+    /// scale it with the field of view's area. Costs a budgeted selection
+    /// per frame at `s = 1` too.
+    pub visibility_budget_deg: f32,
     /// Under [`BudgetRule::BestEffort`], the fraction by which a step an
     /// object had already taken in the previous frame is cheaper than a new
     /// one, in `[0, 0.9]` (values outside are clamped; NaN is 0): objects
@@ -345,6 +361,7 @@ impl Default for SelectorSettings {
             min_scale: 0.01,
             budget_rule: BudgetRule::default(),
             scale_rule: ScaleRule::default(),
+            visibility_budget_deg: 0.0,
             budget_hysteresis: 0.5,
             switch_hysteresis: 0.0,
             switch_min_dwell_s: 0.0,

@@ -372,7 +372,7 @@ impl Selector {
     fn select_recording(&mut self, frame: &FrameInput, diagnostics: bool) -> Result<()> {
         if self.settings.scale_rule == ScaleRule::Budgeted {
             let scale = checked_scale(frame.scale)?;
-            if scale < 1.0 {
+            if scale < 1.0 || self.visibility_allowance_deg() > 0.0 {
                 let at_one = FrameInput {
                     scale: 1.0,
                     ..*frame
@@ -459,13 +459,28 @@ impl Selector {
         if dwell.is_some() {
             self.advance_clock(frame.dt_s);
         }
+        // The summed visibility a budget from `s` may add once its
+        // triangles fit (`visibility_budget_deg`).
+        let allowance_deg = if strict_dwell {
+            self.visibility_allowance_deg()
+        } else {
+            0.0
+        };
         let (scale, mut triangles) = match self.settings.budget_rule {
-            BudgetRule::BestEffort => {
-                self.best_effort_within([s_min, s_max], triangle_budget, true, strict_dwell)
-            }
-            BudgetRule::BestEffortUnweighted => {
-                self.best_effort_within([s_min, s_max], triangle_budget, false, strict_dwell)
-            }
+            BudgetRule::BestEffort => self.best_effort_within(
+                [s_min, s_max],
+                triangle_budget,
+                allowance_deg,
+                true,
+                strict_dwell,
+            ),
+            BudgetRule::BestEffortUnweighted => self.best_effort_within(
+                [s_min, s_max],
+                triangle_budget,
+                allowance_deg,
+                false,
+                strict_dwell,
+            ),
             BudgetRule::UniformScale => {
                 let (scale, triangles) = self.uniform_scale_within([s_min, s_max], triangle_budget);
                 self.apply_budget_scale(scale);
@@ -561,6 +576,12 @@ impl Selector {
             &self.rows[entry.row as usize..][..p.lod_count - 1],
             scale * entry.k_cdiam,
         )
+    }
+
+    /// [`SelectorSettings::visibility_budget_deg`] where it is on, else 0.
+    fn visibility_allowance_deg(&self) -> f32 {
+        let v = self.settings.visibility_budget_deg;
+        if v.is_finite() && v > 0.0 { v } else { 0.0 }
     }
 
     fn triangles_at(&self, scale: f32) -> u64 {

@@ -463,6 +463,12 @@ pub enum Policy {
     /// ([`acuity::ScaleRule::Budgeted`]): the triangles one `s` would draw,
     /// coarsened best effort from the LODs at `s = 1`.
     AcuityAllBudgeted,
+    /// As [`Policy::AcuityAllBudgeted`], with a budget of visibility
+    /// summed over the image on top
+    /// ([`acuity::SelectorSettings::visibility_budget_deg`],
+    /// `crate::policy::VISIBILITY_BUDGET_DEG` scaled by the display's
+    /// field of view).
+    AcuityAllPooled,
     /// As [`Policy::AcuityReactive`], the scheduler's `s` spent as a budget
     /// ([`acuity::ScaleRule::Budgeted`]).
     AcuityReactiveBudgeted,
@@ -497,7 +503,7 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 11] = [
+    pub const EXTRA: [Policy; 12] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
@@ -507,6 +513,7 @@ impl Policy {
         Policy::AcuityReactiveNoHeadroom,
         Policy::AcuityPredictiveNoHeadroom,
         Policy::AcuityAllBudgeted,
+        Policy::AcuityAllPooled,
         Policy::AcuityReactiveBudgeted,
         Policy::AcuityPredictiveAnnounced,
     ];
@@ -558,6 +565,7 @@ impl Policy {
                 | Policy::AcuityEccVel
                 | Policy::AcuityAll
                 | Policy::AcuityAllBudgeted
+                | Policy::AcuityAllPooled
         )
     }
 
@@ -582,6 +590,7 @@ impl Policy {
             Policy::AcuityReactiveNoHeadroom => "acuity_reactive_no_headroom",
             Policy::AcuityPredictiveNoHeadroom => "acuity_predictive_no_headroom",
             Policy::AcuityAllBudgeted => "acuity_all_budgeted",
+            Policy::AcuityAllPooled => "acuity_all_pooled",
             Policy::AcuityReactiveBudgeted => "acuity_reactive_budgeted",
             Policy::AcuityPredictiveAnnounced => "acuity_predictive_announced",
         }
