@@ -707,3 +707,27 @@ fn below_s_1_a_visibility_budget_never_draws_more_than_the_budget_from_s() {
         assert!(on.triangles() <= off.triangles(), "s = {scale}");
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 48, failure_persistence: None, ..Default::default() })]
+
+    #[test]
+    fn a_visibility_budget_never_draws_more_and_its_visibility_stays_finite(
+        seed in 0u64..1000,
+        scale in 1e-4f32..=1.0,
+        budget_deg in proptest::prop_oneof![
+            4 => 0.0f32..200.0,
+            1 => proptest::num::f32::ANY,
+        ],
+    ) {
+        let frame = with_scale(frame_at(DVec3::ZERO, 0.016), scale);
+        let (mut off, _) = random_scene(budgeted_scale(), 300, seed, DVec3::ZERO);
+        let (mut on, _) = random_scene(visibility_budgeted(budget_deg), 300, seed, DVec3::ZERO);
+        off.select(&frame).unwrap();
+        on.select(&frame).unwrap();
+        proptest::prop_assert!(on.triangles() <= off.triangles(), "{} deg at s = {}", budget_deg, scale);
+        if let Some(v) = on.selection_visibility_deg() {
+            proptest::prop_assert!(v.is_finite() && v >= 0.0, "{} deg shown", v);
+        }
+    }
+}
