@@ -32,6 +32,15 @@
 //! order until the triangles fit. Three passes over the objects, no
 //! allocation.
 //!
+//! A visibility budget
+//! ([`SelectorSettings::visibility_budget_deg`](super::SelectorSettings::visibility_budget_deg),
+//! under a budget from `s`) lets the greedy go on once the triangles fit:
+//! each step's added visibility (`theta ln v` at its LOD less the object's
+//! at the LOD before, deg) is binned beside its saving, and steps are
+//! taken in the same order while their sum stays within the budget.
+//! Visible differences add up over an image, so this bounds the image's
+//! difference rather than each object's alone.
+//!
 //! Hysteresis: a step the object had already taken in the previous frame
 //! costs [`SelectorSettings::budget_hysteresis`](super::SelectorSettings::budget_hysteresis)
 //! less, so that near ties keep last frame's order; with
@@ -301,7 +310,8 @@ impl Selector {
     /// best effort ranks steps by it; `None` when the frame recorded no
     /// thresholds (a plain [`Selector::select`] without
     /// [`SelectorSettings::switch_hysteresis`](super::SelectorSettings::switch_hysteresis),
-    /// or [`ScaleRule::Budgeted`](super::ScaleRule::Budgeted) at `s = 1`).
+    /// or [`ScaleRule::Budgeted`](super::ScaleRule::Budgeted) at `s = 1`
+    /// without a visibility budget).
     /// One pass over the objects.
     pub fn selection_visibility_deg(&self) -> Option<f64> {
         let scale = self.recorded_scale?;
