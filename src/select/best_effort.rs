@@ -104,6 +104,13 @@ impl Step {
     }
 }
 
+/// `ln(max(1, v))`, `v = k / q`: how far an object of threshold `k` at
+/// `s = 1` lies above the critical acuity `q` of the transitions it
+/// crossed (c/diam both); 0 at or below the edge of visibility.
+fn margin(k_cdiam: f32, q_cdiam: f32) -> f32 {
+    (k_cdiam / q_cdiam).max(1.0).ln()
+}
+
 fn bin_of(cost: f32) -> usize {
     if cost.is_nan() {
         return BINS - 1;
@@ -122,7 +129,8 @@ impl Selector {
     /// it, cheapest step first (see the module docs), taking no step that
     /// needs `s` below `s_min` (in `(0, s_max]`); then, while the steps'
     /// added visibility (`theta ln v`, summed) stays within
-    /// `allowance_deg`, the next cheapest steps too. Returns the scale
+    /// `allowance_deg`, the next cheapest steps too (an allowance not
+    /// `> 0`, NaN included, is none). Returns the scale
     /// reached and the triangles drawn (LOD ranges counted).
     pub(super) fn best_effort_within(
         &mut self,
@@ -153,11 +161,6 @@ impl Selector {
         // added visibility binned by its cost.
         let mut saved_by_bin = [0u64; BINS];
         let mut visibility_by_bin = [0f32; BINS];
-        let allowance_deg = if allowance_deg > 0.0 {
-            allowance_deg
-        } else {
-            0.0
-        };
         let mut triangles = self.single_triangles();
         for slot in 0..multi {
             let entry = self.budget[slot];
@@ -318,14 +321,16 @@ impl Selector {
         let mut sum = 0.0f64;
         for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
             let lod = match self.selections[slot].lod() {
-                Some(lod) if lod > 0 && entry.row != u32::MAX => lod,
+                Some(lod) if entry.row != u32::MAX => lod,
                 _ => continue,
             };
-            let q = self.rows[entry.row as usize + lod - 1];
-            let v = f64::from(entry.k_cdiam) / f64::from(scale) / f64::from(q);
-            if v.is_finite() && v > 1.0 {
-                sum += f64::from(entry.angular_size_deg) * v.ln();
-            }
+            // The entry's threshold as at `s = 1`.
+            let at_one = BudgetEntry {
+                k_cdiam: entry.k_cdiam / scale,
+                ..*entry
+            };
+            let p = self.object_profiles[slot] as usize;
+            sum += f64::from(self.visibility_at(&at_one, p, lod));
         }
         Some(sum)
     }
@@ -338,7 +343,7 @@ impl Selector {
         }
         let n = self.profiles[p].lod_count;
         let q = self.rows[entry.row as usize + lod.min(n - 1) - 1];
-        let margin = (entry.k_cdiam / q).max(1.0).ln();
+        let margin = margin(entry.k_cdiam, q);
         if margin.is_finite() {
             margin * entry.angular_size_deg
         } else {
@@ -389,16 +394,13 @@ impl Selector {
             let after = self.drawn_triangles(p, adjust, j + 1);
             if after < now {
                 let saved = now - after;
-                let margin = (entry.k_cdiam / q).max(1.0).ln();
-                let visibility = if weighted {
-                    margin * entry.angular_size_deg
-                } else {
-                    margin
-                };
+                let margin = margin(entry.k_cdiam, q);
+                let visibility_deg = margin * entry.angular_size_deg;
+                let visibility = if weighted { visibility_deg } else { margin };
                 return Some(Step {
                     cost: visibility / saved as f32,
                     scale,
-                    visibility_deg: margin * entry.angular_size_deg,
+                    visibility_deg,
                     saved,
                     to_lod: (j + 1) as u8,
                 });

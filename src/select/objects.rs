@@ -333,13 +333,13 @@ impl Selector {
         self.selections[to] = self.selections[from];
         self.previous[to] = self.previous[from];
         // The dwell rule's record follows the object (kept for the
-        // objects with more than one LOD only).
-        let last = self.last_switch.get(from).copied();
+        // objects with more than one LOD only, whose slots come first).
         if to < self.last_switch.len() {
-            self.last_switch[to] = last.unwrap_or(LastSwitch::NEVER);
-        } else if let Some(last) = last {
-            self.last_switch.resize(to, LastSwitch::NEVER);
-            self.last_switch.push(last);
+            self.last_switch[to] = self
+                .last_switch
+                .get(from)
+                .copied()
+                .unwrap_or(LastSwitch::NEVER);
         }
         let id = self.slot_ids[from];
         self.slot_ids[to] = id;
