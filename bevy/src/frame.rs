@@ -46,7 +46,7 @@ pub(crate) fn select_lods(
         match &mut *scheduler {
             AcuityScheduler::Off => {}
             AcuityScheduler::Reactive(r) => {
-                r.update(dt_s);
+                r.observe(dt_s, last.triangles, last.coarsest);
             }
             AcuityScheduler::Predictive(p) => p.observe(dt_s, last.triangles, last.coarsest),
         }

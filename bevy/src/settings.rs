@@ -128,11 +128,15 @@ pub enum AcuityScheduler {
 }
 
 impl AcuityScheduler {
-    /// The reactive controller aiming at `rate_hz` frames per second.
+    /// The reactive controller aiming at `rate_hz` frames per second, with
+    /// a cost model (from the same guess as [`Self::predictive`]) for the
+    /// cost floor: while no LOD choice reaches the rate it does not lower
+    /// `s`.
     pub fn reactive(rate_hz: f32) -> acuity::Result<Self> {
-        Ok(Self::Reactive(ReactiveScheduler::new(
-            ReactiveSettings::for_rate_hz(rate_hz)?,
-        )))
+        Ok(Self::Reactive(
+            ReactiveScheduler::new(ReactiveSettings::for_rate_hz(rate_hz)?)
+                .with_cost_model(CostModel::from_guess(1e-3, 20e-9)),
+        ))
     }
 
     /// The predictive controller aiming at `rate_hz` frames per second,
@@ -141,7 +145,7 @@ impl AcuityScheduler {
     pub fn predictive(rate_hz: f32) -> acuity::Result<Self> {
         Ok(Self::Predictive(PredictiveScheduler::new(
             ReactiveSettings::for_rate_hz(rate_hz)?,
-            CostModel::new(1e-3, 20e-9),
+            CostModel::from_guess(1e-3, 20e-9),
         )))
     }
 }

@@ -24,8 +24,9 @@ enum Inner {
     Predictive(PredictiveScheduler),
 }
 
-/// The predictive scheduler's first guess of a frame's cost, which the
-/// measured frames correct: 1 ms of fixed time and 20 ns per triangle.
+/// Both schedulers' first guess of a frame's cost, which the measured
+/// frames correct: 1 ms of fixed time and 20 ns per triangle (the
+/// predictive one's budget, and both's cost floor).
 const INITIAL_FIXED_S: f32 = 1e-3;
 const INITIAL_PER_TRIANGLE_S: f32 = 20e-9;
 
@@ -57,10 +58,14 @@ pub unsafe extern "C" fn acuity_scheduler_new(
         check_out(out, "out")?;
         let settings = ReactiveSettings::for_rate_hz(rate_hz)?;
         let inner = match kind {
-            ACUITY_SCHEDULER_REACTIVE => Inner::Reactive(ReactiveScheduler::new(settings)),
+            ACUITY_SCHEDULER_REACTIVE => {
+                Inner::Reactive(ReactiveScheduler::new(settings).with_cost_model(
+                    CostModel::from_guess(INITIAL_FIXED_S, INITIAL_PER_TRIANGLE_S),
+                ))
+            }
             ACUITY_SCHEDULER_PREDICTIVE => Inner::Predictive(PredictiveScheduler::new(
                 settings,
-                CostModel::new(INITIAL_FIXED_S, INITIAL_PER_TRIANGLE_S),
+                CostModel::from_guess(INITIAL_FIXED_S, INITIAL_PER_TRIANGLE_S),
             )),
             other => {
                 return Err(Failure::invalid(format!(
@@ -140,7 +145,7 @@ pub unsafe extern "C" fn acuity_scheduler_observe(
         let (triangles, coarsest) = sel.triangles();
         match &mut sched.inner {
             Inner::Reactive(r) => {
-                r.update(t);
+                r.observe(t, triangles, coarsest);
             }
             Inner::Predictive(p) => p.observe(t, triangles, coarsest),
         }

@@ -777,6 +777,65 @@ fn both_schedulers_hold_a_rate_from_c() {
 }
 
 #[test]
+fn both_schedulers_report_a_load_no_lod_absorbs_and_hold_their_knob() {
+    // A plant whose full detail takes 1.5x the 60 Hz period (a triangle
+    // costs about 150x the schedulers' first guess), settled, then 30
+    // frames with twice the period of extra work: no LOD choice reaches
+    // 60 Hz, and lowering detail would buy nothing. (A scheduler whose
+    // cost model has not yet seen frames of different triangle counts
+    // knows no floor, and may lower its knob in the spike's first frame.)
+    let period_s = 1.0 / 60.0;
+    for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
+        let s = scene(&AcuitySettings::default(), 40);
+        let frame = AcuityFrame {
+            dt_s: period_s,
+            ..AcuityFrame::default()
+        };
+        expect(select(s, &frame), ACUITY_OK);
+        let per_triangle_s = (1.5 * period_s - 2e-3) / triangles(s) as f32;
+        let mut sched = null_mut();
+        let mut state = AcuitySchedulerState::default();
+        let (mut reported, mut before) = (0, AcuitySchedulerState::default());
+        // SAFETY: live scheduler, selector and out-pointers throughout.
+        unsafe {
+            expect(acuity_scheduler_new(kind, 60.0, &mut sched), ACUITY_OK);
+            for k in 0..230 {
+                let load_s = if k >= 200 { 2.0 * period_s } else { 0.0 };
+                expect(acuity_scheduler_apply(sched, s), ACUITY_OK);
+                expect(select(s, &frame), ACUITY_OK);
+                let t = 2e-3 + triangles(s) as f32 * per_triangle_s + load_s;
+                expect(acuity_scheduler_observe(sched, t, s), ACUITY_OK);
+                expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
+                if k == 199 {
+                    assert_eq!(state.target_unreachable, 0, "kind {kind}: before the load");
+                }
+                if k >= 200 && state.target_unreachable == 1 {
+                    // Held from the first frame that knows the floor.
+                    if reported == 0 {
+                        before = state;
+                    }
+                    reported += 1;
+                }
+            }
+            expect(acuity_scheduler_free(sched), ACUITY_OK);
+            acuity_selector_free(s);
+        }
+        assert!(
+            reported >= 28,
+            "kind {kind}: {reported} of 30 frames reported"
+        );
+        assert!(
+            state.scale >= 0.9 * before.scale && state.budget as f64 >= 0.9 * before.budget as f64,
+            "kind {kind}: s {} -> {}, budget {} -> {}",
+            before.scale,
+            state.scale,
+            before.budget,
+            state.budget
+        );
+    }
+}
+
+#[test]
 fn schedulers_refuse_bad_input_by_name() {
     let s = scene(&AcuitySettings::default(), 3);
     let mut sched = null_mut();

@@ -104,8 +104,8 @@ pub struct Choice {
 /// A policy's fixed-frame-rate controller.
 enum Scheduler {
     /// Reactive: `s` from measured frame times, with a cost model for the
-    /// cost floor (`None`: blind to it).
-    Reactive(ReactiveScheduler, Option<CostModel>),
+    /// cost floor or blind to it.
+    Reactive(ReactiveScheduler),
     /// Predictive: a triangle budget from a cost model.
     Predictive(PredictiveScheduler),
     /// The predictive scheduler before headroom: the budget of the whole
@@ -257,13 +257,11 @@ impl PolicyRunner {
             Policy::AcuityReactive
             | Policy::AcuityReactiveBudgeted
             | Policy::ScreenSizeReactive => Some(Scheduler::Reactive(
-                ReactiveScheduler::new(tuned()?),
-                Some(cost),
+                ReactiveScheduler::new(tuned()?).with_cost_model(cost),
             )),
-            Policy::AcuityReactiveNoHeadroom => Some(Scheduler::Reactive(
-                ReactiveScheduler::new(tuned()?.without_headroom()),
-                None,
-            )),
+            Policy::AcuityReactiveNoHeadroom => Some(Scheduler::Reactive(ReactiveScheduler::new(
+                tuned()?.without_headroom(),
+            ))),
             Policy::AcuityPredictive
             | Policy::AcuityPredictiveAnnounced
             | Policy::AcuityPredictiveUniform
@@ -331,7 +329,7 @@ impl PolicyRunner {
     ) -> anyhow::Result<Choice> {
         // The scene's s caps what the reactive scheduler may use.
         let scale = match &self.scheduler {
-            Some(Scheduler::Reactive(r, _)) => r.scale().min(self.scale),
+            Some(Scheduler::Reactive(r)) => r.scale().min(self.scale),
             _ => self.scale,
         };
         let frame = FrameInput {
@@ -455,12 +453,8 @@ impl PolicyRunner {
     pub fn observe(&mut self, frame_time_s: f64, triangles: u64) {
         let t = frame_time_s as f32;
         match &mut self.scheduler {
-            Some(Scheduler::Reactive(r, cost)) => {
-                let floor = cost.as_mut().and_then(|c| {
-                    c.observe(t, triangles);
-                    c.floor_s(self.selector.coarsest_triangles())
-                });
-                r.update_with_floor(t, floor);
+            Some(Scheduler::Reactive(r)) => {
+                r.observe(t, triangles, self.selector.coarsest_triangles());
             }
             Some(Scheduler::Predictive(p)) => {
                 p.observe(t, triangles, self.selector.coarsest_triangles());
@@ -475,7 +469,9 @@ impl PolicyRunner {
     /// policies without a scheduler, or blind to the floor.
     pub fn target_unreachable(&self) -> Option<bool> {
         match &self.scheduler {
-            Some(Scheduler::Reactive(r, Some(_))) => Some(r.target_unreachable()),
+            Some(Scheduler::Reactive(r)) if r.cost_model().is_some() => {
+                Some(r.target_unreachable())
+            }
             Some(Scheduler::Predictive(p)) => Some(p.target_unreachable()),
             _ => None,
         }

@@ -23,8 +23,8 @@
 //! does not depend on triangles, including a load spike from elsewhere) nor
 //! the triangles of every visible object's coarsest LOD.
 //! [`CostModel::floor_s`] predicts that floor, assuming a change of load is
-//! additive (other work in the frame) and the per-triangle cost is the
-//! calibrated one. When the floor lies above the frame period, no `s`
+//! additive (other work in the frame) and a triangle costs what it costs
+//! where the frames are (the local cost). When the floor lies above the frame period, no `s`
 //! reaches the target: both schedulers say so (`target_unreachable`) and
 //! stop lowering `s` (or the budget), which would cost detail and buy no
 //! frame on time.
@@ -37,6 +37,10 @@
 //! meaningful.
 
 use crate::error::{Error, Result, number};
+
+mod cost;
+
+pub use cost::{CostModel, FLOOR_SLOPES};
 
 /// Lowest accepted target frame rate, Hz (a frame period of 1 s).
 pub const MIN_TARGET_HZ: f32 = 1.0;
@@ -228,11 +232,6 @@ const INITIAL_SIGMA: f32 = 0.03;
 const BAND_SIGMAS: f32 = 2.5;
 /// The cost model's learning rate, at least, on a frame over the period.
 const MISS_LEARNING_RATE: f32 = 0.5;
-/// Slopes between frames the cost model needs before it predicts a floor.
-pub const FLOOR_SLOPES: u32 = 3;
-/// Weight of a slope between two frames in the cost model's local
-/// per-triangle cost.
-const LOCAL_SLOPE_RATE: f32 = 0.2;
 /// Weight of a frame in the smoothed frame time the dead band judges.
 const LEVEL_RATE: f32 = 0.3;
 
@@ -361,6 +360,8 @@ pub struct ReactiveScheduler {
     /// After a frame over the period lowered `s`: the `s` before that
     /// move and the frame's time, to judge the next frame by.
     descent: Option<(f32, f32)>,
+    /// The cost model [`Self::observe`] learns the cost floor from.
+    cost: Option<CostModel>,
 }
 
 impl ReactiveScheduler {
@@ -377,7 +378,38 @@ impl ReactiveScheduler {
             unreachable: false,
             before_spike: None,
             descent: None,
+            cost: None,
         }
+    }
+
+    /// This controller with a cost model (a starting guess or a
+    /// calibration, as for [`PredictiveScheduler::new`]) that
+    /// [`observe`](Self::observe) fits to the measured frames, to know the
+    /// cost floor.
+    pub fn with_cost_model(mut self, cost: CostModel) -> Self {
+        self.cost = Some(cost);
+        self
+    }
+
+    /// The cost model given to [`with_cost_model`](Self::with_cost_model),
+    /// as learned so far.
+    pub fn cost_model(&self) -> Option<&CostModel> {
+        self.cost.as_ref()
+    }
+
+    /// Feeds back the frame just drawn as [`PredictiveScheduler::observe`]
+    /// does: its time (s), the triangles it drew and those it would have
+    /// drawn with every visible object at its coarsest LOD. With a cost
+    /// model ([`with_cost_model`](Self::with_cost_model)) the model learns
+    /// the frame and its cost floor goes to
+    /// [`update_with_floor`](Self::update_with_floor); without one, as
+    /// [`update`](Self::update). Returns the new `s`.
+    pub fn observe(&mut self, frame_time_s: f32, triangles: u64, coarsest_triangles: u64) -> f32 {
+        let floor_s = self.cost.as_mut().and_then(|c| {
+            c.observe(frame_time_s, triangles);
+            c.floor_s(coarsest_triangles)
+        });
+        self.update_with_floor(frame_time_s, floor_s)
     }
 
     /// The current `s`.
@@ -698,173 +730,9 @@ impl PredictiveScheduler {
     }
 }
 
-/// A linear frame-cost model, `frame_s = fixed_s + per_triangle_s *
-/// triangles`, fitted online from measured frames, that turns a target
-/// frame time into the triangle budget for
-/// [`Selector::select_within_budget`](crate::Selector::select_within_budget),
-/// and predicts the frame's cost floor.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CostModel {
-    /// Time per frame that does not depend on triangles, s.
-    pub fixed_s: f32,
-    /// Time per triangle, s, as learned: a frame slower than predicted
-    /// raises it (so a budget shrinks in proportion, which never
-    /// overshoots).
-    pub per_triangle_s: f32,
-    /// Weight of a new observation in the running fit, `(0, 1]`.
-    pub learning_rate: f32,
-    /// The per-triangle cost given to [`new`](Self::new) (the calibrated
-    /// one), s.
-    calibrated_per_triangle_s: f32,
-    /// The per-triangle cost where the frames are, s ([`Self::floor_s`]).
-    local_per_triangle_s: f32,
-    /// Time beyond `fixed_s` the last frames took that the local
-    /// per-triangle cost does not explain, s: extra load (half of it moves
-    /// each frame; a load of half the frame or more at once).
-    extra_load_s: f32,
-    /// The last frame measured: time, s, and triangles.
-    last_frame: (f32, u64),
-    /// Slopes measured into `local_per_triangle_s`.
-    slopes: u32,
-}
-
-impl CostModel {
-    /// A model with an initial guess (or a calibration).
-    pub fn new(fixed_s: f32, per_triangle_s: f32) -> Self {
-        let per_triangle_s = finite_or(per_triangle_s, 1e-8).max(1e-15);
-        Self {
-            fixed_s: finite_or(fixed_s, 0.0).max(0.0),
-            per_triangle_s,
-            learning_rate: 0.1,
-            calibrated_per_triangle_s: per_triangle_s,
-            local_per_triangle_s: per_triangle_s,
-            extra_load_s: 0.0,
-            last_frame: (0.0, 0),
-            slopes: 0,
-        }
-    }
-
-    /// Updates the per-triangle cost and the extra load from a measured
-    /// frame (time in s and the triangles it drew). Invalid measurements
-    /// change nothing.
-    pub fn observe(&mut self, frame_time_s: f32, triangles: u64) {
-        if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
-            return;
-        }
-        let a = self.learning_rate.clamp(1e-3, 1.0);
-        let (t0, n0) = self.last_frame;
-        let (n0, n1) = (n0 as f32, triangles as f32);
-        if n0 > 0.0 && (n1 - n0).abs() > 0.1 * n1.max(n0) {
-            let slope = (frame_time_s - t0) / (n1 - n0);
-            let cal = self.calibrated_per_triangle_s;
-            if slope.is_finite() {
-                let slope = slope.clamp(0.25 * cal, 4.0 * cal);
-                self.local_per_triangle_s += LOCAL_SLOPE_RATE * (slope - self.local_per_triangle_s);
-                self.slopes = self.slopes.saturating_add(1);
-            }
-        }
-        let unexplained = frame_time_s - self.fixed_s - self.local_per_triangle_s * n1;
-        // A load of half the frame or more shows at once (a spike's first
-        // frame already counts); otherwise the load moves half-way.
-        let unexplained = unexplained.max(0.0);
-        self.extra_load_s = if unexplained > 0.5 * frame_time_s {
-            unexplained
-        } else {
-            0.5 * (self.extra_load_s + unexplained)
-        };
-        self.last_frame = (frame_time_s, triangles);
-        if triangles == 0 {
-            return;
-        }
-        let measured = ((frame_time_s - self.fixed_s).max(0.0) / triangles as f32).max(1e-15);
-        self.per_triangle_s += a * (measured - self.per_triangle_s);
-    }
-
-    /// The predicted time of a frame at every visible object's coarsest
-    /// LOD, s, under the load of the last frames: no choice of LOD makes a
-    /// frame faster. It is the last frames' time less what their triangles
-    /// beyond `coarsest_triangles` cost at the local per-triangle cost (a
-    /// change of load taken as additive: other work in the frame). The
-    /// local cost starts at the calibrated one and follows the slope
-    /// between consecutive frames whose triangles differ by more than 10%
-    /// (within a quarter and four times the calibrated cost), so that a
-    /// frame cost that is not linear in the triangles is read where the
-    /// frames are.
-    /// `None` until that slope has been measured [`FLOOR_SLOPES`] times:
-    /// a calibration is not trusted to call a target out of reach.
-    pub fn floor_s(&self, coarsest_triangles: u64) -> Option<f32> {
-        (self.slopes >= FLOOR_SLOPES).then_some(
-            self.fixed_s
-                + self.extra_load_s
-                + self.local_per_triangle_s * coarsest_triangles as f32,
-        )
-    }
-
-    /// The most triangles that fit in `target_frame_s` seconds, by the
-    /// lower of two readings of the frames: the learned per-triangle cost
-    /// (a change of load proportional to the triangles) and, once its local
-    /// cost is measured ([`Self::floor_s`]), the extra load kept and the
-    /// local per-triangle cost (a change of load that is additive); so a
-    /// load of either kind is met within a frame or two. 0 when the
-    /// target leaves no time after `fixed_s` (or is NaN), at most
-    /// [`MAX_TRIANGLE_BUDGET`] (a target of `+inf` included). Never
-    /// decreases as the target grows.
-    pub fn triangle_budget(&self, target_frame_s: f32) -> u64 {
-        let spare = f64::from(target_frame_s) - f64::from(self.fixed_s);
-        if spare.is_nan() || spare <= 0.0 {
-            return 0;
-        }
-        let per_triangle = f64::from(self.per_triangle_s.max(1e-15));
-        let mut budget = spare / per_triangle;
-        if self.slopes >= FLOOR_SLOPES {
-            // The additive reading: the extra load stays, the rest costs the
-            // local per-triangle cost.
-            let local = f64::from(self.local_per_triangle_s.max(1e-15));
-            budget = budget.min((spare - f64::from(self.extra_load_s)).max(0.0) / local);
-        }
-        if budget >= MAX_TRIANGLE_BUDGET as f64 {
-            MAX_TRIANGLE_BUDGET
-        } else {
-            budget as u64
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn cost_model_learns_the_per_triangle_cost() {
-        let mut m = CostModel::new(0.002, 1e-6);
-        for _ in 0..200 {
-            // The true cost: 2 ms + 10 ns per triangle.
-            m.observe(0.002 + 1e-8 * 500_000.0, 500_000);
-        }
-        assert!((m.per_triangle_s / 1e-8 - 1.0).abs() < 1e-3, "{m:?}");
-        let budget = m.triangle_budget(1.0 / 90.0);
-        assert!((budget as f64 / 911_111.0 - 1.0).abs() < 1e-2, "{budget}");
-        m.observe(f32::NAN, 10);
-        m.observe(0.01, 0);
-        assert!((m.per_triangle_s / 1e-8 - 1.0).abs() < 1e-3);
-        assert_eq!(m.triangle_budget(0.001), 0);
-    }
-
-    #[test]
-    fn an_unbounded_target_gets_the_largest_budget_not_zero() {
-        let m = CostModel::new(0.002, 1e-8);
-        // 1 / 1e-40 Hz overflows f32 to +inf; it used to give a budget of 0.
-        let inf = 1.0 / 1e-40_f32;
-        assert_eq!(m.triangle_budget(inf), MAX_TRIANGLE_BUDGET);
-        assert_eq!(m.triangle_budget(f32::MAX), MAX_TRIANGLE_BUDGET);
-        assert_eq!(m.triangle_budget(f32::NAN), 0);
-        let mut last = 0;
-        for t in [0.0, 0.003, 0.1, 1.0, 1e6, 1e30, f32::MAX, f32::INFINITY] {
-            let b = m.triangle_budget(t);
-            assert!(b >= last, "{t} s: {b} < {last}");
-            last = b;
-        }
-    }
 
     #[test]
     fn target_rates_outside_the_limits_are_refused_by_name() {
