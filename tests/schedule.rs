@@ -511,6 +511,28 @@ proptest! {
     }
 
     #[test]
+    fn with_a_guessed_cost_model_s_and_the_floor_stay_finite(
+        frames in proptest::collection::vec(
+            (prop_oneof![0f32..0.1, proptest::num::f32::ANY], 0u64..5_000_000, 0u64..5_000_000),
+            1..200,
+        ),
+    ) {
+        let settings = ReactiveSettings::for_rate_hz(60.0).unwrap();
+        let mut sched = ReactiveScheduler::new(settings)
+            .with_cost_model(CostModel::from_guess(1e-3, 20e-9));
+        for (frame_s, triangles, coarsest) in frames {
+            let coarsest = coarsest.min(triangles);
+            let s = sched.observe(frame_s, triangles, coarsest);
+            prop_assert!(s.is_finite() && s > 0.0 && s <= 1.0, "s = {}", s);
+            let m = sched.cost_model().unwrap();
+            prop_assert!(m.per_triangle_s.is_finite() && m.per_triangle_s > 0.0, "{:?}", m);
+            if let Some(f) = m.floor_s(coarsest) {
+                prop_assert!(f.is_finite() && f >= 0.0, "floor {} s: {:?}", f, m);
+            }
+        }
+    }
+
+    #[test]
     fn an_announced_load_never_raises_the_budget(
         frames in proptest::collection::vec(
             (prop_oneof![0f32..0.1, proptest::num::f32::ANY], 0u64..2_000_000, prop_oneof![0f32..0.05, proptest::num::f32::ANY]),
