@@ -730,19 +730,27 @@ fn a_triangle_budget_is_met_and_can_be_turned_off() {
     }
 }
 
+/// A plant for the schedulers: 40 objects, frames of `period_s`, 2 ms of
+/// fixed time and the cost per triangle (returned, s) that makes full
+/// detail take `full_periods` periods.
+fn plant(period_s: f32, full_periods: f32) -> (*mut AcuitySelector, AcuityFrame, f32) {
+    let s = scene(&AcuitySettings::default(), 40);
+    let frame = AcuityFrame {
+        dt_s: period_s,
+        ..AcuityFrame::default()
+    };
+    expect(select(s, &frame), ACUITY_OK);
+    let per_triangle_s = (full_periods * period_s - 2e-3) / triangles(s) as f32;
+    (s, frame, per_triangle_s)
+}
+
 #[test]
 fn both_schedulers_hold_a_rate_from_c() {
     // A plant: 2 ms of fixed time and a cost per triangle that makes full
     // detail take 3x the 60 Hz period; every object's coarsest LOD fits.
     let period_s = 1.0 / 60.0;
     for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
-        let s = scene(&AcuitySettings::default(), 40);
-        let frame = AcuityFrame {
-            dt_s: period_s,
-            ..AcuityFrame::default()
-        };
-        expect(select(s, &frame), ACUITY_OK);
-        let per_triangle_s = (3.0 * period_s - 2e-3) / triangles(s) as f32;
+        let (s, frame, per_triangle_s) = plant(period_s, 3.0);
         let mut sched = null_mut();
         let mut late = Vec::new();
         // SAFETY: live scheduler, selector and out-pointers throughout.
@@ -786,13 +794,7 @@ fn both_schedulers_report_a_load_no_lod_absorbs_and_hold_their_knob() {
     // knows no floor, and may lower its knob in the spike's first frame.)
     let period_s = 1.0 / 60.0;
     for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
-        let s = scene(&AcuitySettings::default(), 40);
-        let frame = AcuityFrame {
-            dt_s: period_s,
-            ..AcuityFrame::default()
-        };
-        expect(select(s, &frame), ACUITY_OK);
-        let per_triangle_s = (1.5 * period_s - 2e-3) / triangles(s) as f32;
+        let (s, frame, per_triangle_s) = plant(period_s, 1.5);
         let mut sched = null_mut();
         let mut state = AcuitySchedulerState::default();
         let (mut reported, mut before) = (0, AcuitySchedulerState::default());
