@@ -444,10 +444,11 @@ impl Selector {
         // The lowest `s` a step may need: `min_scale`, or a lower `s` whose
         // triangles are the budget (every step the uniform rule takes there).
         let min_scale = self.settings.min_scale.clamp(1e-6, s_max);
+        let from_scale = matches!(budget, Budget::UniformAt(_));
         // A budget from `s` is the scheduler's soft target: within the
         // dwell time after a switch an object does not switch back however
         // the budget moves (a given budget may force a coarsening).
-        let strict_dwell = matches!(budget, Budget::UniformAt(_));
+        let strict_dwell = from_scale;
         let (s_min, triangle_budget) = match budget {
             Budget::Triangles(t) => (min_scale, t),
             Budget::UniformAt(scale) => (
@@ -461,7 +462,7 @@ impl Selector {
         }
         // The summed visibility a budget from `s` may add once its
         // triangles fit (`visibility_budget_deg`).
-        let allowance_deg = if strict_dwell {
+        let allowance_deg = if from_scale {
             self.visibility_allowance_deg()
         } else {
             0.0
