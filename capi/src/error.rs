@@ -269,6 +269,17 @@ impl<T> OutArray<T> {
     }
 }
 
+/// Refuses NaN, infinities and values below 0, naming `name`.
+pub(crate) fn non_negative(value: f32, name: &str) -> Result<f32> {
+    let value = finite(value, name)?;
+    if value < 0.0 {
+        return Err(Failure::invalid(format!(
+            "`{name}` is {value}; it must be >= 0"
+        )));
+    }
+    Ok(value)
+}
+
 /// Refuses NaN and infinities.
 pub(crate) fn finite(value: f32, name: &str) -> Result<f32> {
     if value.is_finite() {

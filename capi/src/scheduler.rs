@@ -171,12 +171,7 @@ pub unsafe extern "C" fn acuity_scheduler_announce_load(
     guard(|| {
         // SAFETY: forwarded from this function's contract.
         let sched = unsafe { borrow_mut(scheduler, "scheduler") }?;
-        let extra_s = crate::error::finite(extra_s, "extra_s")?;
-        if extra_s < 0.0 {
-            return Err(Failure::invalid(format!(
-                "`extra_s` is {extra_s}; it must be >= 0"
-            )));
-        }
+        let extra_s = crate::error::non_negative(extra_s, "extra_s")?;
         match &mut sched.inner {
             Inner::Reactive(_) => Err(Failure::invalid(
                 "the reactive scheduler cannot budget an announced load; \

@@ -10,8 +10,8 @@ use acuity::{
 };
 
 use crate::error::{
-    AcuityStatus, Failure, OutArray, Result, borrow, borrow_mut, check_out, finite, guard, slice,
-    write_out,
+    AcuityStatus, Failure, OutArray, Result, borrow, borrow_mut, check_out, finite, guard,
+    non_negative, slice, write_out,
 };
 use crate::profile::AcuityProfile;
 use crate::types::{
@@ -445,22 +445,12 @@ pub unsafe extern "C" fn acuity_selector_select(
     with_selector(selector, |s| {
         // SAFETY: forwarded from this function's contract.
         let f = *unsafe { borrow(frame, "frame") }?;
-        let dt_s = finite(f.dt_s, "frame.dt_s")?;
-        if dt_s < 0.0 {
-            return Err(Failure::invalid(format!(
-                "`frame.dt_s` is {dt_s}; it must be >= 0"
-            )));
-        }
+        let dt_s = non_negative(f.dt_s, "frame.dt_s")?;
         let tracker = match f.tracker {
             ACUITY_TRACKER_NONE => Tracker::None,
             ACUITY_TRACKER_HEAD => Tracker::Head,
             ACUITY_TRACKER_EYE => {
-                let error_deg = finite(f.tracker_error_deg, "frame.tracker_error_deg")?;
-                if error_deg < 0.0 {
-                    return Err(Failure::invalid(format!(
-                        "`frame.tracker_error_deg` is {error_deg}; it must be >= 0"
-                    )));
-                }
+                let error_deg = non_negative(f.tracker_error_deg, "frame.tracker_error_deg")?;
                 Tracker::Eye { error_deg }
             }
             other => {

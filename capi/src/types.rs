@@ -313,16 +313,7 @@ impl Default for AcuityFrame {
 impl AcuitySettings {
     /// The runtime's settings; NaN and out-of-range values refused.
     pub(crate) fn to_runtime(self) -> Result<acuity::SelectorSettings> {
-        use crate::error::{Failure, finite};
-        let non_negative = |v: f32, name: &str| -> Result<f32> {
-            let v = finite(v, name)?;
-            if v < 0.0 {
-                return Err(Failure::invalid(format!(
-                    "`{name}` is {v}; it must be >= 0"
-                )));
-            }
-            Ok(v)
-        };
+        use crate::error::non_negative;
         Ok(acuity::SelectorSettings {
             velocity_time_constant_s: non_negative(
                 self.velocity_time_constant_s,
