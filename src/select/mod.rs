@@ -199,10 +199,11 @@ pub struct SelectorSettings {
     /// every scene measured, where one `s` costs each scene differently;
     /// so one budget puts `s = 1` near the edge of visibility on each.
     /// 0 (the default), NaN, negative and infinite values are off: `s = 1`
-    /// then draws the LODs each invisible on its own. Measured with a
-    /// display of 43.6 x 33.4 deg; the budget is a sum over the image, so
-    /// scale it with the field of view's area. Costs a budgeted selection
-    /// per frame at `s = 1` too.
+    /// then draws the LODs each invisible on its own. Fixed on a display of
+    /// 43.6 x 33.4 deg at 8 deg; the budget is a sum over the image, so
+    /// scale it with the field of view's area (measured at 2.25 times the
+    /// area and 18 deg: `s = 1` stayed at the edge of visibility). Costs a
+    /// budgeted selection per frame at `s = 1` too.
     pub visibility_budget_deg: f32,
     /// Under [`BudgetRule::BestEffort`], the fraction by which a step an
     /// object had already taken in the previous frame is cheaper than a new
