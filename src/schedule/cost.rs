@@ -134,8 +134,8 @@ impl CostModel {
     /// between consecutive frames whose triangles differ by more than 10%
     /// (within a quarter and four times the calibrated cost; from a guess,
     /// of the lower and the higher of the guess and the learned cost), so
-    /// that a frame cost that is not linear in
-    /// the triangles is read where the frames are.
+    /// that a frame cost that is not linear in the triangles is read where
+    /// the frames are.
     /// `None` until that slope has been measured [`FLOOR_SLOPES`] times:
     /// a calibration is not trusted to call a target out of reach.
     pub fn floor_s(&self, coarsest_triangles: u64) -> Option<f32> {
