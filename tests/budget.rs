@@ -5,7 +5,8 @@
 mod common;
 
 use acuity::{
-    BudgetRule, FrameInput, ObjectDesc, ObjectId, ScaleRule, Selection, Selector, SelectorSettings,
+    BudgetRule, FrameInput, ObjectDesc, ObjectId, ProfileId, ScaleRule, Selection, Selector,
+    SelectorSettings,
 };
 use common::{display, four_lod_profile, frame_at, lods, random_scene};
 use glam::{DVec3, Quat};
@@ -195,16 +196,7 @@ fn best_effort_coarsens_the_smaller_of_two_objects_whose_steps_are_as_visible_fi
         let p = sel
             .add_profile(&two_lod_profile([4000, 1000], 60.0))
             .unwrap();
-        let mut add = |z: f64| {
-            sel.add_object(ObjectDesc {
-                center: DVec3::new(0.0, 0.0, z),
-                radius: 1.0,
-                rotation: Quat::IDENTITY,
-                profile: p,
-            })
-            .unwrap()
-        };
-        let (near, far) = (add(-10.0), add(-20.0));
+        let (near, far) = (on_axis(&mut sel, p, -10.0), on_axis(&mut sel, p, -20.0));
         sel.set_bias(far, bias).unwrap();
         let frame = frame_at(DVec3::ZERO, 0.016);
         sel.select(&frame).unwrap();
@@ -222,6 +214,18 @@ fn best_effort_coarsens_the_smaller_of_two_objects_whose_steps_are_as_visible_fi
         choose(BudgetRule::BestEffortUnweighted, 2.6),
         (Some(1), Some(0))
     );
+}
+
+/// An object of radius 1 on the view axis at depth `z` (negative: in
+/// front of a camera at the origin looking down -z).
+fn on_axis(sel: &mut Selector, profile: ProfileId, z: f64) -> ObjectId {
+    sel.add_object(ObjectDesc {
+        center: DVec3::new(0.0, 0.0, z),
+        radius: 1.0,
+        rotation: Quat::IDENTITY,
+        profile,
+    })
+    .unwrap()
 }
 
 fn with_scale(mut frame: FrameInput, scale: f32) -> FrameInput {
@@ -593,16 +597,7 @@ fn the_dwell_time_follows_an_object_moved_to_another_slot() {
     };
     let mut sel = Selector::new(display(), settings);
     let p = sel.add_profile(&four_lod_profile(7)).unwrap();
-    let mut add = |z: f64| {
-        sel.add_object(ObjectDesc {
-            center: DVec3::new(0.0, 0.0, z),
-            radius: 1.0,
-            rotation: Quat::IDENTITY,
-            profile: p,
-        })
-        .unwrap()
-    };
-    let (far, near) = (add(-5000.0), add(-20.0));
+    let (far, near) = (on_axis(&mut sel, p, -5000.0), on_axis(&mut sel, p, -20.0));
     let frame = frame_at(DVec3::ZERO, 1.0 / 30.0);
     let lod_at = |sel: &mut Selector, s: f32| {
         sel.select(&with_scale(frame, s)).unwrap();
