@@ -519,7 +519,7 @@ proptest! {
     ) {
         let settings = ReactiveSettings::for_rate_hz(60.0).unwrap();
         let mut sched = ReactiveScheduler::new(settings)
-            .with_cost_model(CostModel::from_guess(1e-3, 20e-9));
+            .with_cost_model(CostModel::first_guess());
         for (frame_s, triangles, coarsest) in frames {
             let coarsest = coarsest.min(triangles);
             let s = sched.observe(frame_s, triangles, coarsest);

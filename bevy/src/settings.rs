@@ -135,17 +135,17 @@ impl AcuityScheduler {
     pub fn reactive(rate_hz: f32) -> acuity::Result<Self> {
         Ok(Self::Reactive(
             ReactiveScheduler::new(ReactiveSettings::for_rate_hz(rate_hz)?)
-                .with_cost_model(CostModel::from_guess(1e-3, 20e-9)),
+                .with_cost_model(CostModel::first_guess()),
         ))
     }
 
     /// The predictive controller aiming at `rate_hz` frames per second,
     /// starting from a guess of 1 ms per frame plus 20 ns per triangle
-    /// that the measured frames correct.
+    /// (`CostModel::first_guess`) that the measured frames correct.
     pub fn predictive(rate_hz: f32) -> acuity::Result<Self> {
         Ok(Self::Predictive(PredictiveScheduler::new(
             ReactiveSettings::for_rate_hz(rate_hz)?,
-            CostModel::from_guess(1e-3, 20e-9),
+            CostModel::first_guess(),
         )))
     }
 }

@@ -24,12 +24,6 @@ enum Inner {
     Predictive(PredictiveScheduler),
 }
 
-/// Both schedulers' first guess of a frame's cost, which the measured
-/// frames correct: 1 ms of fixed time and 20 ns per triangle (the
-/// predictive one's budget, and both's cost floor).
-const INITIAL_FIXED_S: f32 = 1e-3;
-const INITIAL_PER_TRIANGLE_S: f32 = 20e-9;
-
 /// Creates a scheduler of `kind` (`ACUITY_SCHEDULER_REACTIVE` or
 /// `ACUITY_SCHEDULER_PREDICTIVE`) holding `rate_hz` frames a second (1 to
 /// 10,000), with the runtime's defaults: it aims at 90% of the period
@@ -58,15 +52,12 @@ pub unsafe extern "C" fn acuity_scheduler_new(
         check_out(out, "out")?;
         let settings = ReactiveSettings::for_rate_hz(rate_hz)?;
         let inner = match kind {
-            ACUITY_SCHEDULER_REACTIVE => {
-                Inner::Reactive(ReactiveScheduler::new(settings).with_cost_model(
-                    CostModel::from_guess(INITIAL_FIXED_S, INITIAL_PER_TRIANGLE_S),
-                ))
+            ACUITY_SCHEDULER_REACTIVE => Inner::Reactive(
+                ReactiveScheduler::new(settings).with_cost_model(CostModel::first_guess()),
+            ),
+            ACUITY_SCHEDULER_PREDICTIVE => {
+                Inner::Predictive(PredictiveScheduler::new(settings, CostModel::first_guess()))
             }
-            ACUITY_SCHEDULER_PREDICTIVE => Inner::Predictive(PredictiveScheduler::new(
-                settings,
-                CostModel::from_guess(INITIAL_FIXED_S, INITIAL_PER_TRIANGLE_S),
-            )),
             other => {
                 return Err(Failure::invalid(format!(
                     "`kind` is {other}; it must be ACUITY_SCHEDULER_REACTIVE (0) or \

@@ -78,7 +78,8 @@ pub const SCHEDULED_MIN_DWELL_S: f32 = 0.3;
 pub const VISIBILITY_BUDGET_DEG: f32 = 8.0;
 
 /// The field of view [`VISIBILITY_BUDGET_DEG`] was fixed on, deg²: 43.6 x
-/// 33.4 deg, Reddy 1998's display, which every shipped scene uses.
+/// 33.4 deg, Reddy 1998's display (every shipped scene's but
+/// `scenes/_library_wide.toml`, which checks the scaling).
 pub const VISIBILITY_BUDGET_FIELD_DEG2: f32 = 43.6 * 33.4;
 
 /// [`VISIBILITY_BUDGET_DEG`] for `display`: a sum over the image, so in

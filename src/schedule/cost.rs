@@ -77,6 +77,14 @@ impl CostModel {
         }
     }
 
+    /// The first guess of an engine that has measured nothing yet (the C
+    /// interface's and the Bevy plugin's schedulers): 1 ms of fixed time
+    /// and 20 ns per triangle, as [`from_guess`](Self::from_guess), which
+    /// the measured frames correct.
+    pub fn first_guess() -> Self {
+        Self::from_guess(1e-3, 20e-9)
+    }
+
     /// Updates the per-triangle cost and the extra load from a measured
     /// frame (time in s and the triangles it drew). Invalid measurements
     /// change nothing.
@@ -221,7 +229,7 @@ mod tests {
             (21e-3, 0.42e-6, [50_000, 70_000], 20_000),
         ] {
             let true_s = fixed_s + per_triangle_s * coarsest as f32;
-            let mut guessed = CostModel::from_guess(1e-3, 20e-9);
+            let mut guessed = CostModel::first_guess();
             let mut as_calibrated = CostModel::new(1e-3, 20e-9);
             for k in 0..300u64 {
                 let n = if k % 2 == 0 { n0 } else { n1 };

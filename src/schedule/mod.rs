@@ -24,10 +24,10 @@
 //! the triangles of every visible object's coarsest LOD.
 //! [`CostModel::floor_s`] predicts that floor, assuming a change of load is
 //! additive (other work in the frame) and a triangle costs what it costs
-//! where the frames are (the local cost). When the floor lies above the frame period, no `s`
-//! reaches the target: both schedulers say so (`target_unreachable`) and
-//! stop lowering `s` (or the budget), which would cost detail and buy no
-//! frame on time.
+//! where the frames are (the local cost). When the floor lies above the
+//! frame period, no `s` reaches the target: both schedulers say so
+//! (`target_unreachable`) and stop lowering `s` (or the budget), which
+//! would cost detail and buy no frame on time.
 //!
 //! Both are pure: they are given times, they read no clock.
 //!
