@@ -23,7 +23,7 @@
 //! [`ScaleRule::Budgeted`]: the triangles that `s` draws, spent best
 //! effort (at `s = 1` it is the plain loop). `single_thread_pooled` (1e5
 //! and 1e6) selects at `s = 1` with that rule and a visibility budget
-//! ([`SelectorSettings::visibility_budget_deg`], 12 deg): a budgeted
+//! ([`SelectorSettings::visibility_budget`], 12 deg): a budgeted
 //! selection every frame.
 //!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
@@ -34,7 +34,7 @@ mod common;
 
 use acuity::{
     BudgetRule, Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, ScaleRule, Selector,
-    SelectorSettings, SimdLevel, Tracker,
+    SelectorSettings, SimdLevel, Tracker, VisibilityBudget,
 };
 use common::{Rng, four_lod_profile};
 use criterion::{
@@ -78,7 +78,11 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
         } else {
             ScaleRule::Uniform
         },
-        visibility_budget_deg: if extras == Extras::Pooled { 12.0 } else { 0.0 },
+        visibility_budget: if extras == Extras::Pooled {
+            VisibilityBudget::Deg(12.0)
+        } else {
+            VisibilityBudget::Off
+        },
         ..Default::default()
     };
     let mut sel = Selector::new(display, settings);

@@ -52,9 +52,10 @@ pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
-    BudgetOutcome, BudgetRule, Diagnostics, FrameInput, ObjectDesc, ObjectId, ProfileId,
+    BudgetOutcome, BudgetRule, Diagnostics, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG,
+    IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2, ObjectDesc, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, ScaleRule, Selection, Selector, SelectorSettings, SimdLevel,
-    ViewpointRule,
+    ViewpointRule, VisibilityBudget,
 };
 pub use crate::stereo::{Eye, StereoRig};
 
@@ -98,6 +99,7 @@ pub mod prelude {
     pub use crate::{
         BudgetRule, Camera, Display, Error, FrameInput, Gaze, ObjectDesc, ObjectId, Profile,
         ProfileId, Result, ScaleRule, Selection, Selector, SelectorSettings, Tracker,
+        VisibilityBudget,
     };
 }
 

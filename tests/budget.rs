@@ -5,8 +5,8 @@
 mod common;
 
 use acuity::{
-    BudgetRule, FrameInput, ObjectDesc, ObjectId, ProfileId, ScaleRule, Selection, Selector,
-    SelectorSettings,
+    BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc, ObjectId, ProfileId,
+    ScaleRule, Selection, Selector, SelectorSettings, VisibilityBudget,
 };
 use common::{display, four_lod_profile, frame_at, lods, random_scene};
 use glam::{DVec3, Quat};
@@ -650,9 +650,9 @@ fn the_selection_visibility_is_0_at_s_1_and_grows_as_s_falls() {
     }
 }
 
-fn visibility_budgeted(visibility_budget_deg: f32) -> SelectorSettings {
+fn visibility_budgeted(budget_deg: f32) -> SelectorSettings {
     SelectorSettings {
-        visibility_budget_deg,
+        visibility_budget: VisibilityBudget::Deg(budget_deg),
         ..budgeted_scale()
     }
 }
@@ -725,4 +725,41 @@ proptest::proptest! {
             proptest::prop_assert!(v.is_finite() && v >= 0.0, "{} deg shown", v);
         }
     }
+}
+
+#[test]
+fn the_imperceptible_budget_is_the_calibration_on_the_selectors_display_and_follows_it() {
+    let on = |display: &Display| VisibilityBudget::Imperceptible.deg_on(display);
+    let reddy = Display::new([640, 480], [43.6, 33.4]).unwrap();
+    assert!((on(&reddy) - IMPERCEPTIBLE_VISIBILITY_DEG).abs() < 1e-4);
+    // A sum over the image: 2.25 times the field's area, 2.25 times the budget.
+    let wide = Display::new([960, 768], [65.4, 50.1]).unwrap();
+    assert!((on(&wide) / on(&reddy) - 2.25).abs() < 0.01);
+    assert_eq!(VisibilityBudget::Off.deg_on(&wide), 0.0);
+
+    let frame = frame_at(DVec3::ZERO, 0.016);
+    let (mut plain, ids) = random_scene(SelectorSettings::default(), 3000, 8, DVec3::ZERO);
+    let (mut calibrated, _) =
+        random_scene(SelectorSettings::just_imperceptible(), 3000, 8, DVec3::ZERO);
+    let (mut fixed, _) = random_scene(visibility_budgeted(on(&display())), 3000, 8, DVec3::ZERO);
+    for sel in [&mut plain, &mut calibrated, &mut fixed] {
+        sel.select(&frame).unwrap();
+    }
+    assert_eq!(lods(&calibrated, &ids), lods(&fixed, &ids));
+    assert!(
+        calibrated.triangles() < plain.triangles(),
+        "the calibrated budget saved nothing at s = 1"
+    );
+    let spent = |sel: &Selector| sel.selection_visibility_deg().unwrap();
+    assert!(spent(&calibrated) <= f64::from(on(&display())) * 1.0001);
+    // A new display: the budget of its field, with no new settings (the
+    // wider field spends more than the old budget).
+    calibrated.set_display(wide);
+    calibrated.select(&frame).unwrap();
+    let shown = spent(&calibrated);
+    assert!(
+        shown <= f64::from(on(&wide)) * 1.0001 && shown > f64::from(on(&display())),
+        "{shown} deg on a field with a budget of {} deg",
+        on(&wide)
+    );
 }

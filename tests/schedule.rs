@@ -467,6 +467,11 @@ fn an_unreachable_spike_does_not_lower_s_and_is_reported() {
             frame(&mut sched, 2.0 * settings.target_frame_s);
             lowest = lowest.min(sched.scale());
             reported += sched.target_unreachable() as u32;
+            // The floor itself is reported, and says the same.
+            let floor = sched
+                .cost_floor_s()
+                .expect("a floor once the slope is measured");
+            assert_eq!(floor > settings.target_frame_s, sched.target_unreachable());
         }
         assert!(
             reported >= 28,
@@ -494,6 +499,24 @@ fn an_unreachable_spike_does_not_lower_s_and_is_reported() {
         }
         assert_eq!(reported, 0, "seed {seed}: a reachable spike reported");
     }
+}
+
+/// A case the property below found: a frame of 3.4e38 s (finite) makes
+/// the per-triangle cost so large that the floor's product overflowed to
+/// infinity.
+#[test]
+fn a_frame_near_the_largest_finite_time_leaves_the_floor_finite() {
+    let mut cost = CostModel::first_guess();
+    for (frame_s, triangles) in [
+        (0.059_487_67, 1_620_102),
+        (0.094_381_854, 1),
+        (3.357_561_6e38, 154_645),
+        (0.065_019_56, 0),
+    ] {
+        cost.observe(frame_s, triangles);
+    }
+    let floor = cost.floor_s(1_959_122).expect("three slopes measured");
+    assert!(floor.is_finite() && floor > 1.0, "floor {floor} s");
 }
 
 proptest! {
@@ -572,6 +595,9 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
         // The highest ratio of the learnt per-triangle cost at a spike's
         // end to the one just before it.
         let (mut before, mut learnt) = (0f32, 0f32);
+        // The reported floor's rise over a told spike's first frame, at
+        // least, relative to the load told.
+        let (mut floor_before, mut floor_rise) = (0f32, f32::INFINITY);
         for frame in 0..900 {
             let phase = frame % 150;
             let spike = frame >= 300 && (100..120).contains(&phase);
@@ -599,6 +625,20 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
                 first_over += usize::from(phase == 100);
             }
             sched.observe(t, triangles as u64, plant.coarsest_triangles());
+            let floor_s = sched.cost_floor_s().unwrap_or(f32::NAN);
+            if frame >= 300 && phase == 99 {
+                floor_before = floor_s;
+            }
+            if announce && frame >= 300 && phase == 100 {
+                floor_rise = floor_rise.min((floor_s - floor_before) / extra_s);
+            }
+        }
+        if announce {
+            // The floor reported includes the load told for its frame.
+            assert!(
+                floor_rise > 0.5,
+                "seed {seed}: floor rose {floor_rise} of the load"
+            );
         }
         (first_over, over, learnt)
     };

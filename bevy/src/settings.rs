@@ -39,12 +39,29 @@ pub struct AcuitySettings {
 
 impl Default for AcuitySettings {
     fn default() -> Self {
+        Self::from_runtime(SelectorSettings::default())
+    }
+}
+
+impl AcuitySettings {
+    /// The defaults with `s = 1` just imperceptible over each camera's
+    /// whole image ([`SelectorSettings::just_imperceptible`]: the
+    /// runtime's calibrated visibility budget, scaled to each camera's
+    /// field of view): fewer triangles at `s = 1`, for a budgeted
+    /// selection per frame.
+    pub fn just_imperceptible() -> Self {
+        Self::from_runtime(SelectorSettings::just_imperceptible())
+    }
+
+    /// The plugin's settings over the runtime's `selector`: `s = 1`,
+    /// dithered fades of 0.25 s, the change list on.
+    fn from_runtime(selector: SelectorSettings) -> Self {
         Self {
             scale: 1.0,
             selector: SelectorSettings {
                 track_changes: true,
                 fade_time_s: 0.25,
-                ..SelectorSettings::default()
+                ..selector
             },
             dither: true,
         }
@@ -196,5 +213,33 @@ impl std::fmt::Display for AcuityError {
             Self::Object { entity, reason } => write!(f, "acuity: entity {entity}: {reason}"),
             Self::Camera { camera, reason } => write!(f, "acuity: camera {camera}: {reason}"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use acuity::{ScaleRule, VisibilityBudget};
+
+    #[test]
+    fn just_imperceptible_keeps_the_plugins_defaults_and_adds_the_calibration() {
+        let (calibrated, default) = (
+            AcuitySettings::just_imperceptible(),
+            AcuitySettings::default(),
+        );
+        assert_eq!(
+            calibrated.selector.visibility_budget,
+            VisibilityBudget::Imperceptible
+        );
+        assert_eq!(calibrated.selector.scale_rule, ScaleRule::Budgeted);
+        assert!(calibrated.selector.track_changes);
+        assert_eq!(
+            calibrated.selector.fade_time_s,
+            default.selector.fade_time_s
+        );
+        assert_eq!(
+            (calibrated.scale, calibrated.dither),
+            (default.scale, default.dither)
+        );
     }
 }

@@ -41,6 +41,14 @@
 #define ACUITY_NO_BUDGET UINT64_MAX
 
 /**
+ * `AcuitySettings::visibility_budget_deg` for the runtime's calibration
+ * of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
+ * over the whole image, in proportion to the display's field of view
+ * (8 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`).
+ */
+#define ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE -1.0
+
+/**
  * `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
  * turns the selector's `s` from the measured frame times.
  */
@@ -214,6 +222,13 @@ typedef struct AcuitySchedulerState {
      * differ by more than 10% have measured the cost of a triangle).
      */
     uint8_t target_unreachable;
+    /**
+     * The last frame's cost floor, s: its time at every visible object's
+     * coarsest LOD. Between `aim_s` and the period, frames are on time
+     * only as far as their jitter allows, whatever the LODs. -1 while the
+     * floor is unknown (as for `target_unreachable`).
+     */
+    float cost_floor_s;
 } AcuitySchedulerState;
 
 /**
@@ -284,8 +299,11 @@ typedef struct AcuitySettings {
     /**
      * With `budgeted_scale`: the visibility summed over the image that a
      * selection may add beyond the LODs each invisible on its own, deg
-     * (finite, >= 0; the runtime's `visibility_budget_deg`; a budgeted
-     * selection per frame at `s = 1` too). Default 0: off.
+     * (finite, >= 0; the runtime's `VisibilityBudget::Deg`; a budgeted
+     * selection per frame at `s = 1` too), or
+     * `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE`: the calibration that makes
+     * `s = 1` just imperceptible on the selector's display. Default 0:
+     * off.
      */
     float visibility_budget_deg;
 } AcuitySettings;
@@ -873,6 +891,18 @@ enum AcuityStatus acuity_selector_stats(struct AcuitySelector *selector, struct 
  * `out` must be NULL (refused) or valid for writing an `AcuitySettings`.
  */
 enum AcuityStatus acuity_settings_default(struct AcuitySettings *out);
+
+/**
+ * Writes the default settings with `s = 1` just imperceptible over the
+ * whole image into `*out`: `budgeted_scale` 1 and `visibility_budget_deg`
+ * `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` (fewer triangles at `s = 1`,
+ * still imperceptible, for a budgeted selection per frame: about ten
+ * times the plain selection's cost per object).
+ *
+ * # Safety
+ * `out` must be NULL (refused) or valid for writing an `AcuitySettings`.
+ */
+enum AcuityStatus acuity_settings_just_imperceptible(struct AcuitySettings *out);
 
 /**
  * Writes a default frame into `*out`: camera at the origin looking along

@@ -96,7 +96,8 @@ pub use selector::{
 pub use types::{
     ACUITY_LOD_CULLED, ACUITY_NO_BUDGET, ACUITY_NO_OBJECT, ACUITY_SCHEDULER_PREDICTIVE,
     ACUITY_SCHEDULER_REACTIVE, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD, ACUITY_TRACKER_NONE,
-    AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame, AcuityObject, AcuityObjectDesc,
-    AcuityProfileInfo, AcuityQuat, AcuitySchedulerState, AcuitySettings, AcuityStats, AcuityVec3d,
-    AcuityVec3f, acuity_frame_default, acuity_settings_default,
+    ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE, AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame,
+    AcuityObject, AcuityObjectDesc, AcuityProfileInfo, AcuityQuat, AcuitySchedulerState,
+    AcuitySettings, AcuityStats, AcuityVec3d, AcuityVec3f, acuity_frame_default,
+    acuity_settings_default, acuity_settings_just_imperceptible,
 };

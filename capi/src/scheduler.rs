@@ -12,6 +12,9 @@ use crate::types::{
     ACUITY_NO_BUDGET, ACUITY_SCHEDULER_PREDICTIVE, ACUITY_SCHEDULER_REACTIVE, AcuitySchedulerState,
 };
 
+/// `AcuitySchedulerState::cost_floor_s` while the floor is unknown.
+const UNKNOWN_FLOOR_S: f32 = -1.0;
+
 /// A fixed-frame-rate controller. Opaque; from `acuity_scheduler_new`,
 /// freed with `acuity_scheduler_free`. Not thread-safe: one thread at a
 /// time.
@@ -198,12 +201,14 @@ pub unsafe extern "C" fn acuity_scheduler_state(
                 budget: ACUITY_NO_BUDGET,
                 aim_s: r.aim_s(),
                 target_unreachable: u8::from(r.target_unreachable()),
+                cost_floor_s: r.cost_floor_s().unwrap_or(UNKNOWN_FLOOR_S),
             },
             Inner::Predictive(p) => AcuitySchedulerState {
                 scale: 1.0,
                 budget: p.triangle_budget(),
                 aim_s: p.aim_s(),
                 target_unreachable: u8::from(p.target_unreachable()),
+                cost_floor_s: p.cost_floor_s().unwrap_or(UNKNOWN_FLOOR_S),
             },
         };
         // SAFETY: checked above; writable by the caller's contract.

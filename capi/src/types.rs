@@ -18,6 +18,12 @@ pub const ACUITY_NO_OBJECT: AcuityObject = 0;
 /// `AcuitySchedulerState::budget`).
 pub const ACUITY_NO_BUDGET: u64 = u64::MAX;
 
+/// `AcuitySettings::visibility_budget_deg` for the runtime's calibration
+/// of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
+/// over the whole image, in proportion to the display's field of view
+/// (8 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`).
+pub const ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE: f32 = -1.0;
+
 /// `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
 /// turns the selector's `s` from the measured frame times.
 pub const ACUITY_SCHEDULER_REACTIVE: u32 = 0;
@@ -123,8 +129,11 @@ pub struct AcuitySettings {
     pub budgeted_scale: u32,
     /// With `budgeted_scale`: the visibility summed over the image that a
     /// selection may add beyond the LODs each invisible on its own, deg
-    /// (finite, >= 0; the runtime's `visibility_budget_deg`; a budgeted
-    /// selection per frame at `s = 1` too). Default 0: off.
+    /// (finite, >= 0; the runtime's `VisibilityBudget::Deg`; a budgeted
+    /// selection per frame at `s = 1` too), or
+    /// `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE`: the calibration that makes
+    /// `s = 1` just imperceptible on the selector's display. Default 0:
+    /// off.
     pub visibility_budget_deg: f32,
 }
 
@@ -229,6 +238,11 @@ pub struct AcuitySchedulerState {
     /// while the floor is unknown (until three frames whose triangles
     /// differ by more than 10% have measured the cost of a triangle).
     pub target_unreachable: u8,
+    /// The last frame's cost floor, s: its time at every visible object's
+    /// coarsest LOD. Between `aim_s` and the period, frames are on time
+    /// only as far as their jitter allows, whatever the LODs. -1 while the
+    /// floor is unknown (as for `target_unreachable`).
+    pub cost_floor_s: f32,
 }
 
 /// Counts after the last frame.
@@ -278,17 +292,7 @@ impl Default for AcuityQuat {
 
 impl Default for AcuitySettings {
     fn default() -> Self {
-        let d = acuity::SelectorSettings::default();
-        Self {
-            velocity_time_constant_s: d.velocity_time_constant_s,
-            fade_time_s: d.fade_time_s,
-            switch_hysteresis: d.switch_hysteresis,
-            switch_min_dwell_s: d.switch_min_dwell_s,
-            track_changes: d.track_changes.into(),
-            cull: d.cull.into(),
-            budgeted_scale: (d.scale_rule == acuity::ScaleRule::Budgeted).into(),
-            visibility_budget_deg: d.visibility_budget_deg,
-        }
+        Self::from_runtime(acuity::SelectorSettings::default())
     }
 }
 
@@ -311,6 +315,24 @@ impl Default for AcuityFrame {
 }
 
 impl AcuitySettings {
+    /// The fields of the runtime's settings `d` that C sets.
+    pub(crate) fn from_runtime(d: acuity::SelectorSettings) -> Self {
+        Self {
+            velocity_time_constant_s: d.velocity_time_constant_s,
+            fade_time_s: d.fade_time_s,
+            switch_hysteresis: d.switch_hysteresis,
+            switch_min_dwell_s: d.switch_min_dwell_s,
+            track_changes: d.track_changes.into(),
+            cull: d.cull.into(),
+            budgeted_scale: (d.scale_rule == acuity::ScaleRule::Budgeted).into(),
+            visibility_budget_deg: match d.visibility_budget {
+                acuity::VisibilityBudget::Off => 0.0,
+                acuity::VisibilityBudget::Imperceptible => ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE,
+                acuity::VisibilityBudget::Deg(deg) => deg,
+            },
+        }
+    }
+
     /// The runtime's settings; NaN and out-of-range values refused.
     pub(crate) fn to_runtime(self) -> Result<acuity::SelectorSettings> {
         use crate::error::non_negative;
@@ -332,10 +354,16 @@ impl AcuitySettings {
             } else {
                 acuity::ScaleRule::Uniform
             },
-            visibility_budget_deg: non_negative(
-                self.visibility_budget_deg,
-                "settings.visibility_budget_deg",
-            )?,
+            visibility_budget: if self.visibility_budget_deg
+                == ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE
+            {
+                acuity::VisibilityBudget::Imperceptible
+            } else {
+                acuity::VisibilityBudget::Deg(non_negative(
+                    self.visibility_budget_deg,
+                    "settings.visibility_budget_deg",
+                )?)
+            },
             ..acuity::SelectorSettings::default()
         })
     }
@@ -350,6 +378,23 @@ impl AcuitySettings {
 pub unsafe extern "C" fn acuity_settings_default(out: *mut AcuitySettings) -> AcuityStatus {
     // SAFETY: forwarded from this function's contract.
     guard(|| unsafe { write_out(out, "out", AcuitySettings::default()) })
+}
+
+/// Writes the default settings with `s = 1` just imperceptible over the
+/// whole image into `*out`: `budgeted_scale` 1 and `visibility_budget_deg`
+/// `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` (fewer triangles at `s = 1`,
+/// still imperceptible, for a budgeted selection per frame: about ten
+/// times the plain selection's cost per object).
+///
+/// # Safety
+/// `out` must be NULL (refused) or valid for writing an `AcuitySettings`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn acuity_settings_just_imperceptible(
+    out: *mut AcuitySettings,
+) -> AcuityStatus {
+    let settings = AcuitySettings::from_runtime(acuity::SelectorSettings::just_imperceptible());
+    // SAFETY: forwarded from this function's contract.
+    guard(|| unsafe { write_out(out, "out", settings) })
 }
 
 /// Writes a default frame into `*out`: camera at the origin looking along

@@ -238,7 +238,8 @@ fn nan_and_out_of_domain_numbers_are_refused() {
             ACUITY_INVALID_ARGUMENT,
         );
         assert!(out.is_null());
-        for v in [nan, -1.0, f32::INFINITY] {
+        // Negative values but the calibration's are refused.
+        for v in [nan, -2.0, -0.5, f32::INFINITY] {
             let settings = AcuitySettings {
                 visibility_budget_deg: v,
                 ..AcuitySettings::default()
@@ -633,6 +634,23 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
         with_budget < triangles_at(1, 1.0),
         "a visibility budget of 50 deg saved nothing at s = 1"
     );
+    // The calibration: s = 1 just imperceptible on the selector's display.
+    let mut calibrated = AcuitySettings::default();
+    // SAFETY: a valid place to write settings.
+    expect(
+        unsafe { acuity_settings_just_imperceptible(&mut calibrated) },
+        ACUITY_OK,
+    );
+    assert_eq!(
+        (calibrated.budgeted_scale, calibrated.visibility_budget_deg),
+        (1, ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE)
+    );
+    let s = scene(&calibrated, 40);
+    expect(select(s, &AcuityFrame::default()), ACUITY_OK);
+    let at_edge = triangles(s);
+    // SAFETY: from acuity_selector_new, freed once.
+    unsafe { acuity_selector_free(s) };
+    assert!(at_edge <= triangles_at(1, 1.0) && at_edge >= with_budget);
     for scale in [0.5, 0.2, 0.05] {
         let (budgeted, uniform) = (triangles_at(1, scale), triangles_at(0, scale));
         assert!(budgeted <= uniform, "s = {scale}: {budgeted} > {uniform}");
@@ -730,18 +748,49 @@ fn a_triangle_budget_is_met_and_can_be_turned_off() {
     }
 }
 
-/// A plant for the schedulers: 40 objects, frames of `period_s`, 2 ms of
-/// fixed time and the cost per triangle (returned, s) that makes full
-/// detail take `full_periods` periods.
-fn plant(period_s: f32, full_periods: f32) -> (*mut AcuitySelector, AcuityFrame, f32) {
-    let s = scene(&AcuitySettings::default(), 40);
-    let frame = AcuityFrame {
-        dt_s: period_s,
-        ..AcuityFrame::default()
-    };
-    expect(select(s, &frame), ACUITY_OK);
-    let per_triangle_s = (full_periods * period_s - 2e-3) / triangles(s) as f32;
-    (s, frame, per_triangle_s)
+/// A plant for the schedulers: 40 objects, frames of a period, 2 ms of
+/// fixed time and a cost per triangle.
+struct Plant {
+    selector: *mut AcuitySelector,
+    frame: AcuityFrame,
+    per_triangle_s: f32,
+}
+
+impl Plant {
+    /// Frames of `period_s`, full detail taking `full_periods` periods.
+    fn new(period_s: f32, full_periods: f32) -> Plant {
+        let selector = scene(&AcuitySettings::default(), 40);
+        let frame = AcuityFrame {
+            dt_s: period_s,
+            ..AcuityFrame::default()
+        };
+        expect(select(selector, &frame), ACUITY_OK);
+        let per_triangle_s = (full_periods * period_s - 2e-3) / triangles(selector) as f32;
+        Plant {
+            selector,
+            frame,
+            per_triangle_s,
+        }
+    }
+
+    /// One frame under `sched`: its knob applied, a selection, and the
+    /// frame's time (the fixed time, the triangles drawn and `load_s`)
+    /// observed. Returns that time, s.
+    ///
+    /// # Safety
+    /// `sched` must be a live scheduler.
+    unsafe fn frame(&self, sched: *mut AcuityScheduler, load_s: f32) -> f32 {
+        let s = self.selector;
+        // SAFETY: a live scheduler by this function's contract, and the
+        // plant's live selector.
+        unsafe {
+            expect(acuity_scheduler_apply(sched, s), ACUITY_OK);
+            expect(select(s, &self.frame), ACUITY_OK);
+            let t = 2e-3 + triangles(s) as f32 * self.per_triangle_s + load_s;
+            expect(acuity_scheduler_observe(sched, t, s), ACUITY_OK);
+            t
+        }
+    }
 }
 
 #[test]
@@ -750,20 +799,16 @@ fn both_schedulers_hold_a_rate_from_c() {
     // detail take 3x the 60 Hz period; every object's coarsest LOD fits.
     let period_s = 1.0 / 60.0;
     for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
-        let (s, frame, per_triangle_s) = plant(period_s, 3.0);
+        let plant = Plant::new(period_s, 3.0);
         let mut sched = null_mut();
         let mut late = Vec::new();
         // SAFETY: live scheduler, selector and out-pointers throughout.
         unsafe {
             expect(acuity_scheduler_new(kind, 60.0, &mut sched), ACUITY_OK);
             for k in 0..200 {
-                expect(acuity_scheduler_apply(sched, s), ACUITY_OK);
-                expect(select(s, &frame), ACUITY_OK);
-                let t = 2e-3 + triangles(s) as f32 * per_triangle_s;
-                if t > period_s {
+                if plant.frame(sched, 0.0) > period_s {
                     late.push(k);
                 }
-                expect(acuity_scheduler_observe(sched, t, s), ACUITY_OK);
             }
             let mut state = AcuitySchedulerState::default();
             expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
@@ -775,7 +820,7 @@ fn both_schedulers_hold_a_rate_from_c() {
                 _ => assert!(state.scale == 1.0 && state.budget < 4000 * 40),
             }
             expect(acuity_scheduler_free(sched), ACUITY_OK);
-            acuity_selector_free(s);
+            acuity_selector_free(plant.selector);
         }
         assert!(
             late.iter().all(|&k| k < 10),
@@ -794,7 +839,7 @@ fn both_schedulers_report_a_load_no_lod_absorbs_and_hold_their_knob() {
     // knows no floor, and may lower its knob in the spike's first frame.)
     let period_s = 1.0 / 60.0;
     for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
-        let (s, frame, per_triangle_s) = plant(period_s, 1.5);
+        let plant = Plant::new(period_s, 1.5);
         let mut sched = null_mut();
         let mut state = AcuitySchedulerState::default();
         let (mut reported, mut before) = (0, AcuitySchedulerState::default());
@@ -803,15 +848,27 @@ fn both_schedulers_report_a_load_no_lod_absorbs_and_hold_their_knob() {
             expect(acuity_scheduler_new(kind, 60.0, &mut sched), ACUITY_OK);
             for k in 0..230 {
                 let load_s = if k >= 200 { 2.0 * period_s } else { 0.0 };
-                expect(acuity_scheduler_apply(sched, s), ACUITY_OK);
-                expect(select(s, &frame), ACUITY_OK);
-                let t = 2e-3 + triangles(s) as f32 * per_triangle_s + load_s;
-                expect(acuity_scheduler_observe(sched, t, s), ACUITY_OK);
+                plant.frame(sched, load_s);
                 expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
+                if k == 0 {
+                    assert_eq!(state.cost_floor_s, -1.0, "kind {kind}: no floor known yet");
+                }
                 if k == 199 {
                     assert_eq!(state.target_unreachable, 0, "kind {kind}: before the load");
+                    // Known (once the frames' triangles have differed) or
+                    // not, below the period.
+                    assert!(
+                        state.cost_floor_s == -1.0
+                            || (state.cost_floor_s >= 0.0 && state.cost_floor_s <= period_s),
+                        "kind {kind}: floor {} s before the load",
+                        state.cost_floor_s
+                    );
                 }
                 if k >= 200 && state.target_unreachable == 1 {
+                    assert!(
+                        state.cost_floor_s > period_s,
+                        "kind {kind}: the floor says it too"
+                    );
                     // Held from the first frame that knows the floor.
                     if reported == 0 {
                         before = state;
@@ -820,7 +877,7 @@ fn both_schedulers_report_a_load_no_lod_absorbs_and_hold_their_knob() {
                 }
             }
             expect(acuity_scheduler_free(sched), ACUITY_OK);
-            acuity_selector_free(s);
+            acuity_selector_free(plant.selector);
         }
         assert!(
             reported >= 28,

@@ -101,12 +101,29 @@ fn experiments_run_small_and_write_their_files() {
     let held =
         std::fs::read_to_string(dir.join("framerate").join("framerate_summary.csv")).unwrap();
     let mut rows = held.lines();
+    let header = rows.next().unwrap();
     assert!(
-        rows.next()
-            .unwrap()
-            .starts_with("policy,over_outside_spikes,over_in_spikes,unreachable_in_spikes"),
+        header.starts_with(
+            "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes"
+        ),
         "{held}"
     );
+    // The floor against the aim once settled, and the slow reversals.
+    for column in [
+        "floor_above_aim_settled",
+        "over_settled_with_room",
+        "lod_slow_reversals_per_s",
+    ] {
+        assert!(header.split(',').any(|c| c == column), "{column}: {held}");
+    }
+    let frames = std::fs::read_to_string(dir.join("framerate").join("framerate.csv")).unwrap();
+    let frame_header = frames.lines().next().unwrap();
+    for column in ["cost_floor_ms", "aim_ms", "lod_slow_reversals"] {
+        assert!(
+            frame_header.split(',').any(|c| c == column),
+            "{column}: {frame_header}"
+        );
+    }
     let names: Vec<&str> = rows.map(|r| r.split(',').next().unwrap()).collect();
     for p in [
         "acuity_reactive",

@@ -97,6 +97,10 @@ pub struct FrameRecord {
     /// Of which reversals: switches back to the LOD left at the instance's
     /// previous switch, within [`crate::switches::REVERSAL_WINDOW_S`].
     pub lod_reversals: u32,
+    /// Of the switches, slow reversals: back to the LOD left at the
+    /// instance's previous switch within
+    /// [`crate::switches::SLOW_REVERSAL_WINDOW_S`], the reversals included.
+    pub lod_slow_reversals: u32,
     /// The scale factor `s` used.
     pub scale: f32,
     /// The predictive scheduler's triangle budget, if any.
@@ -105,6 +109,12 @@ pub struct FrameRecord {
     /// period (no LOD choice could reach the target); `None` for policies
     /// without a scheduler that sees the floor.
     pub target_unreachable: Option<bool>,
+    /// The scheduler's cost floor after this frame, ms (the frame at every
+    /// visible object's coarsest LOD); `None` where unknown or blind.
+    pub cost_floor_ms: Option<f64>,
+    /// The frame time the scheduler aimed at after this frame, ms (its
+    /// headroom below the period); `None` without a scheduler.
+    pub aim_ms: Option<f64>,
     /// Whether the frame fell in a load spike ([`PlaySettings::load_spikes`]).
     pub in_spike: bool,
     /// The selection's visibility in best effort's measure, deg
@@ -383,9 +393,12 @@ impl<'w> Player<'w> {
                     mean_lod,
                     lod_switches: switched.switches,
                     lod_reversals: switched.reversals,
+                    lod_slow_reversals: switched.slow_reversals,
                     scale: choice.scale,
                     triangle_budget: choice.triangle_budget,
                     target_unreachable: runner.target_unreachable(),
+                    cost_floor_ms: runner.cost_floor_s().map(|f| f * 1e3),
+                    aim_ms: runner.aim_s().map(|a| a * 1e3),
                     in_spike: spike.is_some(),
                     visibility_deg: choice.visibility_deg,
                     flip_mean: None,

@@ -22,7 +22,7 @@ use crate::screen_size::{
 };
 use acuity::{
     BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, PredictiveScheduler,
-    ReactiveScheduler, ReactiveSettings, ScaleRule, Selector, SelectorSettings,
+    ReactiveScheduler, ReactiveSettings, ScaleRule, Selector, SelectorSettings, VisibilityBudget,
 };
 
 /// The model components a policy selects with; `None` for policies that do
@@ -69,25 +69,6 @@ pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = 0.15;
 /// reversal counter's window), so that a switch the dwell rule holds back
 /// never lands on that window's edge.
 pub const SCHEDULED_MIN_DWELL_S: f32 = 0.3;
-
-/// [`SelectorSettings::visibility_budget_deg`] of [`Policy::AcuityAllPooled`]
-/// on a display of [`VISIBILITY_BUDGET_FIELD_DEG2`], deg: fixed once, from
-/// the budgeted sweeps of `scenes/library.toml`, `scenes/default.toml` and
-/// `scenes/reddy1998.toml` (the library's edge of visibility, 9.75 JOD,
-/// lies at about this much visibility summed over its image).
-pub const VISIBILITY_BUDGET_DEG: f32 = 8.0;
-
-/// The field of view [`VISIBILITY_BUDGET_DEG`] was fixed on, deg²: 43.6 x
-/// 33.4 deg, Reddy 1998's display (every shipped scene's but
-/// `scenes/_library_wide.toml`, which checks the scaling).
-pub const VISIBILITY_BUDGET_FIELD_DEG2: f32 = 43.6 * 33.4;
-
-/// [`VISIBILITY_BUDGET_DEG`] for `display`: a sum over the image, so in
-/// proportion to the field of view's area.
-pub fn visibility_budget_deg(display: &acuity::Display) -> f32 {
-    let [x, y] = display.fov_deg();
-    VISIBILITY_BUDGET_DEG * (x * y / VISIBILITY_BUDGET_FIELD_DEG2)
-}
 
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -185,10 +166,10 @@ impl PolicyRunner {
             } else {
                 ScaleRule::Uniform
             },
-            visibility_budget_deg: if policy == Policy::AcuityAllPooled {
-                visibility_budget_deg(&world.display)
+            visibility_budget: if policy == Policy::AcuityAllPooled {
+                VisibilityBudget::Imperceptible
             } else {
-                0.0
+                VisibilityBudget::Off
             },
             budget_hysteresis: if policy == Policy::AcuityPredictiveNoHeadroom {
                 0.0
@@ -476,6 +457,29 @@ impl PolicyRunner {
             Some(Scheduler::Predictive(p)) => Some(p.target_unreachable()),
             _ => None,
         }
+    }
+
+    /// The scheduler's cost floor after the last frame, s; `None` where
+    /// [`target_unreachable`](Self::target_unreachable) is, or while the
+    /// floor is unknown.
+    pub fn cost_floor_s(&self) -> Option<f64> {
+        match &self.scheduler {
+            Some(Scheduler::Reactive(r)) => r.cost_floor_s(),
+            Some(Scheduler::Predictive(p)) => p.cost_floor_s(),
+            _ => None,
+        }
+        .map(f64::from)
+    }
+
+    /// The frame time the scheduler aims at, s; `None` for policies
+    /// without a scheduler with headroom.
+    pub fn aim_s(&self) -> Option<f64> {
+        match &self.scheduler {
+            Some(Scheduler::Reactive(r)) => Some(r.aim_s()),
+            Some(Scheduler::Predictive(p)) => Some(p.aim_s()),
+            _ => None,
+        }
+        .map(f64::from)
     }
 }
 

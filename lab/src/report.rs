@@ -52,6 +52,10 @@ pub struct Summary {
     /// Of which reversals per second (flicker, see [`crate::switches`]);
     /// NaN for a single frame.
     pub reversals_per_s: f64,
+    /// Slow reversals per second (within a second, the reversals
+    /// included; [`crate::switches::SLOW_REVERSAL_WINDOW_S`]); NaN for a
+    /// single frame.
+    pub slow_reversals_per_s: f64,
     /// FovVideoVDP of the whole sequence against full detail, JOD (10 =
     /// identical); `None` unless scored ([`attach_jod`]).
     pub jod: Option<f64>,
@@ -131,6 +135,7 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                 mean_scale: mean(r.frames.iter().map(|f| f64::from(f.scale))),
                 switches_per_s: per_second(r, |f| f.lod_switches),
                 reversals_per_s: per_second(r, |f| f.lod_reversals),
+                slow_reversals_per_s: per_second(r, |f| f.lod_slow_reversals),
                 jod: None,
                 jod_local_p999: None,
                 visibility_deg: Some(mean(r.frames.iter().filter_map(|f| f.visibility_deg)))
@@ -248,14 +253,14 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// The per-frame CSV: one row per policy and frame.
 pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike,selection_visibility_deg\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike,selection_visibility_deg,cost_floor_ms,aim_ms,lod_slow_reversals\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{},{},{},{}",
                 f.policy.name(),
                 f.frame,
                 f.t_s,
@@ -274,6 +279,9 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
                 o(f.target_unreachable.map(|u| u32::from(u).to_string())),
                 u32::from(f.in_spike),
                 o(f.visibility_deg.map(|v| format!("{v:.4}"))),
+                o(f.cost_floor_ms.map(|v| format!("{v:.3}"))),
+                o(f.aim_ms.map(|v| format!("{v:.3}"))),
+                f.lod_slow_reversals,
             );
         }
     }

@@ -7,12 +7,24 @@
 //! back-and-forth that reads as flicker, where a monotone crossing (an
 //! object receding through its LODs, or a head sweep passing over it once)
 //! reads as one pop.
+//!
+//! Slow reversals, within [`SLOW_REVERSAL_WINDOW_S`], are counted beside:
+//! a controller that holds each switch for a dwell time longer than the
+//! quarter second (the lab's scheduled policies hold for 0.3 s) can only
+//! flicker more slowly, and the quarter-second count alone would not see
+//! it. A head sweep that passes an object and comes back within a second
+//! counts there too, so they are read against another policy's under the
+//! same camera.
 
 /// Longest time between two switches that undo each other for the second
 /// to count as a reversal, seconds: a quarter second, shorter than a head
 /// sweep's half period, so a sweep that passes an object and comes back is
 /// two crossings, not flicker.
 pub const REVERSAL_WINDOW_S: f64 = 0.25;
+
+/// Longest time between two switches that undo each other for the second
+/// to count as a slow reversal, seconds.
+pub const SLOW_REVERSAL_WINDOW_S: f64 = 1.0;
 
 /// One frame's count.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -21,6 +33,10 @@ pub struct SwitchCount {
     pub switches: u32,
     /// Of which reversals (see the module documentation).
     pub reversals: u32,
+    /// Of the switches, those back to the LOD left at the instance's
+    /// previous switch within [`SLOW_REVERSAL_WINDOW_S`] (the reversals
+    /// included).
+    pub slow_reversals: u32,
 }
 
 /// Counts switches and reversals over a sequence of frames of one policy.
@@ -49,9 +65,10 @@ impl SwitchTracker {
             count.switches += 1;
             if let Some((t_last, left)) = *last
                 && left == to
-                && t_s - t_last <= REVERSAL_WINDOW_S
             {
-                count.reversals += 1;
+                let since_s = t_s - t_last;
+                count.reversals += u32::from(since_s <= REVERSAL_WINDOW_S);
+                count.slow_reversals += u32::from(since_s <= SLOW_REVERSAL_WINDOW_S);
             }
             *last = Some((t_s, from));
         }
@@ -90,6 +107,12 @@ mod tests {
         let slow = counts(&[&[Some(0)], &[Some(1)], &[Some(0)]], 0.3);
         assert_eq!(slow.iter().map(|c| c.switches).sum::<u32>(), 2);
         assert_eq!(slow.iter().map(|c| c.reversals).sum::<u32>(), 0);
+        // ... but a slow reversal, as the quick ones are.
+        assert_eq!(slow.iter().map(|c| c.slow_reversals).sum::<u32>(), 1);
+        assert_eq!(flicker.iter().map(|c| c.slow_reversals).sum::<u32>(), 2);
+        // Over a second apart: neither.
+        let crossings = counts(&[&[Some(0)], &[Some(1)], &[Some(0)]], 1.1);
+        assert_eq!(crossings.iter().map(|c| c.slow_reversals).sum::<u32>(), 0);
     }
 
     #[test]
@@ -111,15 +134,18 @@ mod tests {
                 SwitchCount::default(),
                 SwitchCount {
                     switches: 1,
-                    reversals: 0
+                    reversals: 0,
+                    slow_reversals: 0
                 },
                 SwitchCount {
                     switches: 1,
-                    reversals: 0
+                    reversals: 0,
+                    slow_reversals: 0
                 },
                 SwitchCount {
                     switches: 1,
-                    reversals: 1
+                    reversals: 1,
+                    slow_reversals: 1
                 },
             ]
         );

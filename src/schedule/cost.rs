@@ -146,12 +146,15 @@ impl CostModel {
     /// the frames are.
     /// `None` until that slope has been measured [`FLOOR_SLOPES`] times:
     /// a calibration is not trusted to call a target out of reach.
+    /// Finite, from 0 to `f32::MAX`: frames of finite times give a finite
+    /// floor even where their per-triangle cost times the triangles
+    /// overflows.
     pub fn floor_s(&self, coarsest_triangles: u64) -> Option<f32> {
         (self.slopes >= FLOOR_SLOPES).then_some(
             (self.fixed_s
                 + self.floor_load_s
                 + self.local_per_triangle_s * coarsest_triangles as f32)
-                .max(0.0),
+                .clamp(0.0, f32::MAX),
         )
     }
 

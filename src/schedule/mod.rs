@@ -354,7 +354,8 @@ pub struct ReactiveScheduler {
     ceiling: Option<f32>,
     last: Step,
     stats: FrameStats,
-    unreachable: bool,
+    /// The last frame's cost floor, s, where known.
+    floor_s: Option<f32>,
     /// `s` before the spike that lowered it, until calm frames return it.
     before_spike: Option<f32>,
     /// After a frame over the period lowered `s`: the `s` before that
@@ -375,7 +376,7 @@ impl ReactiveScheduler {
             ceiling: None,
             last: Step::Hold,
             stats: FrameStats::new(),
-            unreachable: false,
+            floor_s: None,
             before_spike: None,
             descent: None,
             cost: None,
@@ -437,7 +438,17 @@ impl ReactiveScheduler {
     /// Whether the last frame's cost floor lay above the period (see
     /// [`update_with_floor`](Self::update_with_floor)).
     pub fn target_unreachable(&self) -> bool {
-        self.unreachable
+        self.floor_s
+            .is_some_and(|f| f > self.settings.target_frame_s)
+    }
+
+    /// The last frame's cost floor, s: its time with every visible object
+    /// at its coarsest LOD ([`CostModel::floor_s`]); `None` while unknown.
+    /// A floor above the period makes the target unreachable; one between
+    /// [`aim_s`](Self::aim_s) and the period leaves frames on time only as
+    /// far as their jitter allows, whatever the LODs.
+    pub fn cost_floor_s(&self) -> Option<f32> {
+        self.floor_s
     }
 
     /// Feeds the measured time of the frame just drawn (s) and returns the
@@ -458,14 +469,15 @@ impl ReactiveScheduler {
             return self.scale;
         }
         let st = self.settings;
-        self.unreachable = floor_s.is_some_and(|f| f.is_finite() && f > st.target_frame_s);
+        self.floor_s = floor_s.filter(|f| f.is_finite());
+        let unreachable = self.target_unreachable();
         let aim = self.stats.see(&st, frame_time_s);
         let old = self.scale;
         let missed =
             self.stats
                 .missed(frame_time_s, st.target_frame_s, st.band(self.stats.sigma()));
         let settled = self.stats.frames >= st.settle_frames;
-        if (missed || self.stats.busy >= st.settle_frames) && !self.unreachable {
+        if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
             } else {
@@ -517,7 +529,7 @@ impl ReactiveScheduler {
             self.last = Step::Lower;
         }
         // Frames out of reach say nothing of the load after them.
-        if self.scale != old || self.unreachable {
+        if self.scale != old || unreachable {
             self.stats.moved();
         }
         self.scale
@@ -577,7 +589,9 @@ pub struct PredictiveScheduler {
     /// Whether the last move of the budget was a raise.
     last_raised: bool,
     stats: FrameStats,
-    unreachable: bool,
+    /// The last frame's cost floor, s (its announced load included), where
+    /// known.
+    floor_s: Option<f32>,
     /// Load announced for the next frame, s ([`Self::announce_load`]).
     announced_s: f32,
     /// The last announced load and the budget it left, held while the
@@ -596,7 +610,7 @@ impl PredictiveScheduler {
             ceiling: None,
             last_raised: false,
             stats: FrameStats::new(),
-            unreachable: false,
+            floor_s: None,
             announced_s: 0.0,
             announced_budget: None,
         }
@@ -636,7 +650,15 @@ impl PredictiveScheduler {
 
     /// Whether the last frame's cost floor lay above the period.
     pub fn target_unreachable(&self) -> bool {
-        self.unreachable
+        self.floor_s
+            .is_some_and(|f| f > self.settings.target_frame_s)
+    }
+
+    /// The last frame's cost floor, s, as for
+    /// [`ReactiveScheduler::cost_floor_s`], with the load announced for
+    /// that frame ([`Self::announce_load`]) included.
+    pub fn cost_floor_s(&self) -> Option<f32> {
+        self.floor_s
     }
 
     /// The triangle budget for the next frame (less what an announced load
@@ -685,10 +707,12 @@ impl PredictiveScheduler {
         }
         self.cost.observe(frame_time_s, triangles);
         self.cost.learning_rate = rate;
-        self.unreachable = self
+        self.floor_s = self
             .cost
             .floor_s(coarsest_triangles)
-            .is_some_and(|f| f + announced_s > st.target_frame_s);
+            .map(|f| f + announced_s)
+            .filter(|f| f.is_finite());
+        let unreachable = self.target_unreachable();
         let aim = self.stats.see(&st, frame_time_s);
         let fresh = self
             .cost
@@ -712,7 +736,7 @@ impl PredictiveScheduler {
         let raise = self.stats.frames >= st.settle_frames
             && self.stats.calm >= st.settle_frames
             && raised as f64 > held as f64 * (1.0 + 0.5 * f64::from(band));
-        if lower && !self.unreachable {
+        if lower && !unreachable {
             let spike = frame_time_s > st.spike_ratio * st.target_frame_s;
             if self.last_raised && !spike {
                 self.ceiling = Some(held);
@@ -724,7 +748,7 @@ impl PredictiveScheduler {
             self.last_raised = true;
             self.held = Some(raised);
             self.stats.moved();
-        } else if self.unreachable {
+        } else if unreachable {
             self.stats.moved();
         }
     }

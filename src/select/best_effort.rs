@@ -29,11 +29,12 @@
 //! the savings are binned over the logarithm of the cost (1024 bins, an
 //! 18th of an octave each), the bin where they reach what the budget needs
 //! is found, every step below it is taken and, within it, steps in object
-//! order until the triangles fit. Three passes over the objects, no
-//! allocation.
+//! order until the triangles fit. Three passes over the objects; the
+//! first keeps each object's steps for the other two, in buffers whose
+//! capacity is kept between frames (no allocation once they have grown).
 //!
 //! A visibility budget
-//! ([`SelectorSettings::visibility_budget_deg`](super::SelectorSettings::visibility_budget_deg),
+//! ([`SelectorSettings::visibility_budget`](super::SelectorSettings::visibility_budget),
 //! under a budget from `s`) lets the greedy go on once the triangles fit:
 //! each step's added visibility (`theta ln v` at its LOD less the object's
 //! at the LOD before, deg) is binned beside its saving, and steps are
@@ -78,6 +79,18 @@ struct Step {
     visibility_deg: f32,
     saved: u32,
     to_lod: u8,
+}
+
+/// A step of an object's chain as pass 1 found it, for passes 2 and 3.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ChainStep {
+    /// The bin of the chain's running maximum of cost up to this step.
+    bin: u16,
+    to_lod: u8,
+    saved: u32,
+    /// As [`Step::scale`] and [`Step::visibility_deg`].
+    scale: f32,
+    visibility_deg: f32,
 }
 
 /// Bins of the cost histogram: bin 0 holds costs of 0 (steps at the edge
@@ -158,11 +171,17 @@ impl Selector {
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
         // Pass 1: the LODs at `s_max`, and every later step's saving and
-        // added visibility binned by its cost.
+        // added visibility binned by its cost; the steps kept per object
+        // for passes 2 and 3.
         let mut saved_by_bin = [0u64; BINS];
         let mut visibility_by_bin = [0f32; BINS];
         let mut triangles = self.single_triangles();
+        let mut chains = std::mem::take(&mut self.chains);
+        let mut chain_start = std::mem::take(&mut self.chain_start);
+        chains.clear();
+        chain_start.clear();
         for slot in 0..multi {
+            chain_start.push(chains.len() as u32);
             let entry = self.budget[slot];
             if entry.row == u32::MAX {
                 continue;
@@ -190,9 +209,17 @@ impl Selector {
                 saved_by_bin[bin] += u64::from(step.saved);
                 visibility_by_bin[bin] += (step.visibility_deg - shown_deg).max(0.0);
                 shown_deg = shown_deg.max(step.visibility_deg);
+                chains.push(ChainStep {
+                    bin: bin as u16,
+                    to_lod: step.to_lod,
+                    saved: step.saved,
+                    scale: step.scale,
+                    visibility_deg: step.visibility_deg,
+                });
                 next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
             }
         }
+        chain_start.push(chains.len() as u32);
         let mut reached = s_max;
         if triangles > triangle_budget || allowance_deg > 0.0 {
             let needed = triangles.saturating_sub(triangle_budget);
@@ -225,26 +252,22 @@ impl Selector {
             // Pass 2: every step below the threshold's bin (all of them
             // are needed, or fit the allowance); pass 3: in it, steps in
             // object order while the triangles do not fit or the step's
-            // visibility fits what is left of the allowance. A step left
-            // after pass 2 costs at least the threshold's bin, so pass 3's
-            // running maximum can start from 0.
+            // visibility fits what is left of the allowance. Both read
+            // the chains pass 1 kept: a step left after pass 2 lies in
+            // the threshold's bin or above, so the running maximum it
+            // kept is its own cost or a later step's, as from its LOD.
             for below in [true, false] {
                 for slot in 0..multi {
                     let entry = self.budget[slot];
                     if entry.row == u32::MAX {
                         continue;
                     }
-                    let adjust = adjust_of(slot);
-                    let mut cost = 0.0f32;
                     let lod = self.selections[slot].0 as usize;
                     let p = self.object_profiles[slot] as usize;
-                    let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
-                    let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
-                    let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
                     let mut shown_deg = self.visibility_at(&entry, p, lod);
-                    while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
-                        cost = cost.max(step.cost_given(kept, keep_factor, beyond));
-                        let bin = bin_of(cost);
+                    let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
+                    for step in chain.iter().filter(|step| usize::from(step.to_lod) > lod) {
+                        let bin = usize::from(step.bin);
                         let adds_deg = (step.visibility_deg - shown_deg).max(0.0);
                         let take = if below {
                             bin < threshold
@@ -262,18 +285,12 @@ impl Selector {
                         triangles -= u64::from(step.saved);
                         reached = reached.min(step.scale);
                         self.selections[slot] = Selection(step.to_lod);
-                        next = self.next_step(
-                            slot,
-                            &entry,
-                            adjust,
-                            step.to_lod as usize,
-                            s_min,
-                            weighted,
-                        );
                     }
                 }
             }
         }
+        self.chains = chains;
+        self.chain_start = chain_start;
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
     }

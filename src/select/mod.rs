@@ -63,6 +63,7 @@ use glam::{DVec3, Quat};
 use crate::acuity::{Components, EccentricityModel, VelocityModel};
 use crate::camera::{Camera, Gaze};
 use crate::csf::Observer;
+use crate::display::Display;
 
 mod adjust;
 mod best_effort;
@@ -190,21 +191,18 @@ pub struct SelectorSettings {
     pub scale_rule: ScaleRule,
     /// Under [`ScaleRule::Budgeted`], the visibility summed over the image
     /// that a selection may add beyond what each object shows on its own
-    /// at `s = 1`, deg, in best effort's measure
+    /// at `s = 1`, in best effort's measure
     /// ([`Selector::selection_visibility_deg`]): at every `s`, once the
     /// triangles from `s` fit, best effort keeps taking its cheapest steps
-    /// per triangle saved while their summed visibility stays within this.
+    /// per triangle saved while their summed visibility stays within it.
     /// Visible differences add up over an image, and an image-level metric
     /// (FovVideoVDP) loses about as much per degree of this measure on
     /// every scene measured, where one `s` costs each scene differently;
-    /// so one budget puts `s = 1` near the edge of visibility on each.
-    /// 0 (the default), NaN, negative and infinite values are off: `s = 1`
-    /// then draws the LODs each invisible on its own. Fixed on a display of
-    /// 43.6 x 33.4 deg at 8 deg; the budget is a sum over the image, so
-    /// scale it with the field of view's area (measured at 2.25 times the
-    /// area with 18 deg: `s = 1` stayed imperceptible, 9.79 JOD). Costs a
-    /// budgeted selection per frame at `s = 1` too.
-    pub visibility_budget_deg: f32,
+    /// so one budget puts `s = 1` near the edge of visibility on each
+    /// ([`VisibilityBudget::Imperceptible`]). Off by default: `s = 1` then
+    /// draws the LODs each invisible on its own. Costs a budgeted
+    /// selection per frame at `s = 1` too.
+    pub visibility_budget: VisibilityBudget,
     /// Under [`BudgetRule::BestEffort`], the fraction by which a step an
     /// object had already taken in the previous frame is cheaper than a new
     /// one, in `[0, 0.9]` (values outside are clamped; NaN is 0): objects
@@ -362,7 +360,7 @@ impl Default for SelectorSettings {
             min_scale: 0.01,
             budget_rule: BudgetRule::default(),
             scale_rule: ScaleRule::default(),
-            visibility_budget_deg: 0.0,
+            visibility_budget: VisibilityBudget::Off,
             budget_hysteresis: 0.5,
             switch_hysteresis: 0.0,
             switch_min_dwell_s: 0.0,
@@ -431,6 +429,76 @@ pub enum ScaleRule {
     /// budgeted selection per frame while `s < 1` (the plain loop at
     /// `s = 1`).
     Budgeted,
+}
+
+/// The visibility summed over the image that `s = 1` may spend
+/// ([`SelectorSettings::visibility_budget`]), in best effort's measure
+/// (`theta ln v` per object, deg).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum VisibilityBudget {
+    /// None: `s = 1` draws the LODs each invisible on its own.
+    #[default]
+    Off,
+    /// The calibration that makes `s = 1` just imperceptible over the
+    /// whole image: [`IMPERCEPTIBLE_VISIBILITY_DEG`] on a field of view of
+    /// [`IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2`], in proportion to the
+    /// selector's display's field of view (the budget is a sum over the
+    /// image); it follows [`Selector::set_display`].
+    Imperceptible,
+    /// A budget in deg, whatever the display: finite and `> 0`, else off.
+    Deg(f32),
+}
+
+/// The visibility budget that puts `s = 1` at the edge of visibility on a
+/// display of [`IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2`], deg
+/// ([`VisibilityBudget::Imperceptible`]). Fixed once, for every scene and
+/// display, from the budgeted sweeps of the lab's `scenes/library.toml`,
+/// `scenes/default.toml` and `scenes/reddy1998.toml`: the library's edge
+/// of visibility (FovVideoVDP, foveated, 9.75 JOD) lies at about this much
+/// visibility summed over its image, and the other scenes (and the library
+/// on a field of 2.25 times the area, with the budget scaled to it) stay
+/// imperceptible with it.
+pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 8.0;
+
+/// The field of view [`IMPERCEPTIBLE_VISIBILITY_DEG`] was fixed on, deg²:
+/// 43.6 x 33.4 deg, Reddy 1998's display.
+pub const IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2: f32 = 43.6 * 33.4;
+
+impl VisibilityBudget {
+    /// The budget on `display`, deg: 0 when off (and for a [`Deg`](Self::Deg)
+    /// not finite and `> 0`).
+    pub fn deg_on(self, display: &Display) -> f32 {
+        let deg = match self {
+            VisibilityBudget::Off => 0.0,
+            VisibilityBudget::Imperceptible => {
+                let [x, y] = display.fov_deg();
+                IMPERCEPTIBLE_VISIBILITY_DEG * (x * y / IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2)
+            }
+            VisibilityBudget::Deg(deg) => deg,
+        };
+        if deg.is_finite() && deg > 0.0 {
+            deg
+        } else {
+            0.0
+        }
+    }
+}
+
+impl SelectorSettings {
+    /// The default settings with `s = 1` just imperceptible over the whole
+    /// image: [`ScaleRule::Budgeted`] and
+    /// [`VisibilityBudget::Imperceptible`]. Where the default draws at
+    /// `s = 1` the LODs each invisible on its own, these also spend the
+    /// visibility an image can hide (fewer triangles, still
+    /// imperceptible), for a budgeted selection per frame (about ten times
+    /// the plain loop's cost per object).
+    pub fn just_imperceptible() -> Self {
+        Self {
+            scale_rule: ScaleRule::Budgeted,
+            visibility_budget: VisibilityBudget::Imperceptible,
+            ..Self::default()
+        }
+    }
 }
 
 /// An object to select LODs for.

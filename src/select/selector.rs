@@ -15,6 +15,7 @@ use crate::rows;
 use crate::viewpoints::ViewpointLookup;
 
 use super::adjust::Adjust;
+use super::best_effort::ChainStep;
 use super::dispatch::{dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
 use super::hysteresis::LastSwitch;
@@ -133,6 +134,11 @@ pub struct Selector {
     /// The best-effort budget's per-slot adjustment index, kept between
     /// frames.
     pub(super) adjusted_of: Vec<u32>,
+    /// The best-effort budget's steps of every object, in slot order
+    /// (`chains[chain_start[slot]..chain_start[slot + 1]]`), kept between
+    /// frames for their capacity.
+    pub(super) chains: Vec<ChainStep>,
+    pub(super) chain_start: Vec<u32>,
     /// The switch hysteresis' clock (the sum of the frames' `dt_s`), s,
     /// and per slot when and which way its selection last changed.
     pub(super) clock_s: f64,
@@ -179,6 +185,8 @@ impl Selector {
             deferred: Vec::new(),
             deferred_before: Vec::new(),
             adjusted_of: Vec::new(),
+            chains: Vec::new(),
+            chain_start: Vec::new(),
             clock_s: 0.0,
             last_switch: Vec::new(),
             recorded_scale: None,
@@ -461,7 +469,7 @@ impl Selector {
             self.advance_clock(frame.dt_s);
         }
         // The summed visibility a budget from `s` may add once its
-        // triangles fit (`visibility_budget_deg`).
+        // triangles fit (`visibility_budget`).
         let allowance_deg = if from_scale {
             self.visibility_allowance_deg()
         } else {
@@ -579,10 +587,10 @@ impl Selector {
         )
     }
 
-    /// [`SelectorSettings::visibility_budget_deg`] where it is on, else 0.
+    /// [`SelectorSettings::visibility_budget`] on this display, deg (0:
+    /// off).
     fn visibility_allowance_deg(&self) -> f32 {
-        let v = self.settings.visibility_budget_deg;
-        if v.is_finite() && v > 0.0 { v } else { 0.0 }
+        self.settings.visibility_budget.deg_on(&self.display)
     }
 
     fn triangles_at(&self, scale: f32) -> u64 {

@@ -2,10 +2,14 @@
 //! spikes, frames over budget and `s` over time per scheduler.
 //!
 //! Besides the general table it prints one for the schedulers: frames over
-//! the period outside the spikes and within them, and within them the
+//! the period outside the spikes (all of them, and those after the
+//! start-up, [`START_UP_S`]) and within them, and within them the
 //! frames the scheduler reported out of reach (its cost floor above the
-//! period), LOD switches and reversals per second, mean triangles and,
-//! with `--metric fvvdp`, the sequence's foveated JOD. Screen size under
+//! period); once settled, the frames whose cost floor lay above the aim
+//! (the period can then be held only as far as the frames' jitter allows,
+//! whatever the LODs) and the late frames where it did not; LOD switches,
+//! reversals and slow reversals (within a second) per second, mean
+//! triangles and, with `--metric fvvdp`, the sequence's foveated JOD. Screen size under
 //! the same reactive controller (`screen_size_reactive`) and the
 //! controllers before headroom (`*_no_headroom`) run beside acuity's.
 
@@ -228,6 +232,9 @@ pub struct HeldRate {
     pub policy: Policy,
     /// Share of the frames outside the load spikes over the period.
     pub over_outside_spikes: f64,
+    /// Of those, the share after the start-up ([`START_UP_S`]): the frames
+    /// over the period once the scheduler has come down to the target.
+    pub over_settled: f64,
     /// Share of the frames within the spikes over the period.
     pub over_in_spikes: f64,
     /// Share of the frames within the spikes the scheduler reported out of
@@ -239,10 +246,22 @@ pub struct HeldRate {
     pub over_reachable_in_spikes: Option<f64>,
     /// Share of the frames outside the spikes reported out of reach.
     pub unreachable_outside_spikes: Option<f64>,
+    /// Of the frames outside the spikes after the start-up, the share
+    /// whose cost floor lay above the scheduler's aim: no LOD choice
+    /// leaves them the headroom; `None` as above.
+    pub floor_above_aim_settled: Option<f64>,
+    /// Of the same frames, the share over the period although the cost
+    /// floor lay below the aim (or was unknown): the late frames a choice
+    /// of LODs could have avoided; `None` as above.
+    pub over_settled_with_room: Option<f64>,
     /// LOD switches and reversals per second, mean triangles, mean `s`.
     pub switches_per_s: f64,
     /// LOD reversals per second.
     pub reversals_per_s: f64,
+    /// Slow LOD reversals per second (within a second, the reversals
+    /// included): the flicker a dwell time longer than the reversals'
+    /// quarter second slows down but does not remove.
+    pub slow_reversals_per_s: f64,
     /// Mean triangles per frame.
     pub triangles: f64,
     /// Mean scale factor.
@@ -250,6 +269,13 @@ pub struct HeldRate {
     /// FovVideoVDP JOD of the sequence, when scored.
     pub jod: Option<f64>,
 }
+
+/// The run's start-up, s of the scene's time: a scheduler begins at full
+/// detail (the reactive one) or at its first guess of the cost (the
+/// predictive one) and comes down to the target within it (the reactive
+/// one in 4-5 frames at 30 Hz, `docs/framerate.md`), so its frames over
+/// the period measure the start, not how the rate is held.
+pub const START_UP_S: f64 = 0.5;
 
 fn share(
     frames: &[&crate::player::FrameRecord],
@@ -271,16 +297,29 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
             let (inside, outside): (Vec<_>, Vec<_>) = r.frames.iter().partition(|f| f.in_spike);
             let sees_floor = r.frames.iter().any(|f| f.target_unreachable.is_some());
             let unreachable = |f: &crate::player::FrameRecord| f.target_unreachable == Some(true);
+            let floor_above_aim = |f: &crate::player::FrameRecord| {
+                matches!((f.cost_floor_ms, f.aim_ms), (Some(floor), Some(aim)) if floor > aim)
+            };
+            let settled: Vec<_> = outside
+                .iter()
+                .copied()
+                .filter(|f| f.t_s >= START_UP_S)
+                .collect();
             HeldRate {
                 policy: r.policy,
                 over_outside_spikes: share(&outside, over),
+                over_settled: share(&settled, over),
                 over_in_spikes: share(&inside, over),
                 unreachable_in_spikes: sees_floor.then(|| share(&inside, unreachable)),
                 over_reachable_in_spikes: sees_floor
                     .then(|| share(&inside, |f| over(f) && !unreachable(f))),
                 unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
+                floor_above_aim_settled: sees_floor.then(|| share(&settled, floor_above_aim)),
+                over_settled_with_room: sees_floor
+                    .then(|| share(&settled, |f| over(f) && !floor_above_aim(f))),
                 switches_per_s: s.switches_per_s,
                 reversals_per_s: s.reversals_per_s,
+                slow_reversals_per_s: s.slow_reversals_per_s,
                 triangles: s.triangles,
                 mean_scale: s.mean_scale,
                 jod: s.jod,
@@ -294,21 +333,26 @@ fn pct(v: Option<f64>) -> String {
 }
 
 /// The schedulers' table: over% outside and within the spikes, within them
-/// out of reach and over while reachable, switches, reversals, triangles,
-/// `s` and JOD.
+/// out of reach and over while reachable, once settled the floor above the
+/// aim and the late frames with room, switches, reversals, triangles, `s`
+/// and JOD.
 pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<30} {:>8} {:>8} {:>8} {:>9} {:>7} {:>6} {:>6} {:>10} {:>5} {:>6}",
+        "{:<30} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
+        "over% set",
         "over% in",
         "unreach%",
         "over%reach",
         "unr%out",
+        "flr>aim%",
+        "over%room",
         "sw/s",
         "rev/s",
+        "rev1s/s",
         "tris/frm",
         "s",
         "JOD"
@@ -316,15 +360,19 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<30} {:>8} {:>8} {:>8} {:>9} {:>7} {:>6.1} {:>6.1} {:>10.0} {:>5.2} {:>6}",
+            "{:<30} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
             r.policy.name(),
             pct(Some(r.over_outside_spikes)),
+            pct(Some(r.over_settled)),
             pct(Some(r.over_in_spikes)),
             pct(r.unreachable_in_spikes),
             pct(r.over_reachable_in_spikes),
             pct(r.unreachable_outside_spikes),
+            pct(r.floor_above_aim_settled),
+            pct(r.over_settled_with_room),
             r.switches_per_s,
             r.reversals_per_s,
+            r.slow_reversals_per_s,
             r.triangles,
             r.mean_scale,
             r.jod.map_or("-".into(), |j| format!("{j:.3}")),
@@ -336,25 +384,121 @@ pub fn held_table(rows: &[HeldRate]) -> String {
 /// The schedulers' table as CSV (shares as fractions).
 pub fn held_csv(rows: &[HeldRate]) -> String {
     let mut t = String::from(
-        "policy,over_outside_spikes,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod\n",
+        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for r in rows {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{},{},{},{:.3},{:.3},{:.1},{:.4},{}",
+            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3}",
             r.policy.name(),
             r.over_outside_spikes,
+            r.over_settled,
             r.over_in_spikes,
             o(r.unreachable_in_spikes),
             o(r.over_reachable_in_spikes),
             o(r.unreachable_outside_spikes),
+            o(r.floor_above_aim_settled),
+            o(r.over_settled_with_room),
             r.switches_per_s,
             r.reversals_per_s,
             r.triangles,
             r.mean_scale,
             o(r.jod),
+            r.slow_reversals_per_s,
         );
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::player::FrameRecord;
+    use crate::report::summarize;
+
+    fn frame(t_s: f64, frame_ms: f64, in_spike: bool) -> FrameRecord {
+        floored(t_s, frame_ms, in_spike, 50.0)
+    }
+
+    /// A frame whose scheduler aimed at 90 ms with a cost floor of
+    /// `floor_ms`.
+    fn floored(t_s: f64, frame_ms: f64, in_spike: bool, floor_ms: f64) -> FrameRecord {
+        FrameRecord {
+            policy: Policy::AcuityReactive,
+            frame: (t_s * 10.0) as u32,
+            t_s,
+            frame_ms,
+            select_ms: 0.0,
+            triangles: 1000,
+            draw_calls: 1,
+            drawn: 1,
+            mean_lod: 0.0,
+            lod_switches: 0,
+            lod_reversals: 0,
+            lod_slow_reversals: 0,
+            scale: 1.0,
+            triangle_budget: None,
+            target_unreachable: Some(floor_ms > 100.0),
+            cost_floor_ms: Some(floor_ms),
+            aim_ms: Some(90.0),
+            in_spike,
+            visibility_deg: None,
+            flip_mean: None,
+            flip_p95: None,
+        }
+    }
+
+    /// The schedulers' table row of one run of `frames` at a 100 ms period.
+    fn held_at_100_ms(frames: Vec<FrameRecord>) -> HeldRate {
+        let runs = [PolicyRun {
+            policy: Policy::AcuityReactive,
+            knob: 1.0,
+            frames,
+            worst: None,
+        }];
+        held_rates(&runs, &summarize(&runs, 0.1), 0.1).remove(0)
+    }
+
+    #[test]
+    fn frames_over_the_period_in_the_start_up_count_outside_the_spikes_but_not_once_settled() {
+        // A 100 ms period: two late frames in the start-up, one after it
+        // of eight outside the spikes, and a late frame in a spike.
+        let frames = vec![
+            frame(0.0, 300.0, false),
+            frame(0.1, 150.0, false),
+            frame(0.2, 90.0, false),
+            frame(0.6, 90.0, false),
+            frame(0.7, 120.0, false),
+            frame(0.8, 200.0, true),
+            frame(0.9, 90.0, false),
+            frame(1.0, 90.0, false),
+            frame(1.1, 80.0, false),
+        ];
+        let held = held_at_100_ms(frames);
+        assert_eq!(held.over_outside_spikes, 3.0 / 8.0);
+        assert_eq!(held.over_settled, 1.0 / 5.0);
+        assert_eq!(held.over_in_spikes, 1.0);
+        assert_eq!(held.floor_above_aim_settled, Some(0.0));
+        assert_eq!(held.over_settled_with_room, Some(1.0 / 5.0));
+    }
+
+    #[test]
+    fn late_frames_whose_floor_lay_above_the_aim_are_told_apart_from_those_with_room() {
+        // A 100 ms period and a 90 ms aim, all settled and outside the
+        // spikes: three frames at a floor of 95 ms (above the aim, below
+        // the period), two of them late; one late frame at a floor of 40 ms.
+        let frames = vec![
+            floored(1.0, 104.0, false, 95.0),
+            floored(1.1, 99.0, false, 95.0),
+            floored(1.2, 101.0, false, 95.0),
+            floored(1.3, 120.0, false, 40.0),
+            floored(1.4, 85.0, false, 40.0),
+        ];
+        let held = held_at_100_ms(frames);
+        assert_eq!(held.over_settled, 3.0 / 5.0);
+        assert_eq!(held.floor_above_aim_settled, Some(3.0 / 5.0));
+        assert_eq!(held.over_settled_with_room, Some(1.0 / 5.0));
+        assert_eq!(held.unreachable_outside_spikes, Some(0.0));
+    }
 }

@@ -465,9 +465,8 @@ pub enum Policy {
     AcuityAllBudgeted,
     /// As [`Policy::AcuityAllBudgeted`], with a budget of visibility
     /// summed over the image on top
-    /// ([`acuity::SelectorSettings::visibility_budget_deg`],
-    /// `crate::policy::VISIBILITY_BUDGET_DEG` scaled by the display's
-    /// field of view).
+    /// ([`acuity::VisibilityBudget::Imperceptible`], the runtime's
+    /// calibration of `s = 1`, scaled by the display's field of view).
     AcuityAllPooled,
     /// As [`Policy::AcuityReactive`], the scheduler's `s` spent as a budget
     /// ([`acuity::ScaleRule::Budgeted`]).
