@@ -202,6 +202,9 @@ impl Selector {
             let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
             let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+            if next.is_none() {
+                continue;
+            }
             let mut shown_deg = self.visibility_at(&entry, p, lod);
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 cost = cost.max(step.cost_given(kept, keep_factor, beyond));
@@ -262,10 +265,16 @@ impl Selector {
                     if entry.row == u32::MAX {
                         continue;
                     }
+                    let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
                     let lod = self.selections[slot].0 as usize;
+                    if chain
+                        .last()
+                        .is_none_or(|step| usize::from(step.to_lod) <= lod)
+                    {
+                        continue;
+                    }
                     let p = self.object_profiles[slot] as usize;
                     let mut shown_deg = self.visibility_at(&entry, p, lod);
-                    let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
                     for step in chain.iter().filter(|step| usize::from(step.to_lod) > lod) {
                         let bin = usize::from(step.bin);
                         let adds_deg = (step.visibility_deg - shown_deg).max(0.0);
