@@ -280,6 +280,12 @@ typedef struct AcuitySettings {
      */
     float switch_min_dwell_s;
     /**
+     * How long the view must ask for a coarser LOD without a break
+     * before the object coarsens, s (finite, >= 0; 0, the default: off).
+     * A coarsening in a frame whose `s` fell happens at once.
+     */
+    float switch_coarsen_delay_s;
+    /**
      * Non-zero: list the objects whose LOD changed each frame
      * (`acuity_selector_changes`). Default 0.
      */
@@ -583,9 +589,9 @@ enum AcuityStatus acuity_profile_free(struct AcuityProfile *profile);
  * `acuity_scheduler_observe` with the frame's measured time after it was
  * drawn. For the budgeted spending of `s` (no reversals under the
  * reactive scheduler) create the selector with `budgeted_scale`; for
- * flicker-free switching, set `switch_min_dwell_s` (0.3 s) and
- * `switch_hysteresis` (0.15), as the command line's scheduled policies
- * do.
+ * flicker-free switching, set `switch_min_dwell_s` (0.3 s),
+ * `switch_coarsen_delay_s` (0.5 s) and `switch_hysteresis` (0.15), as the
+ * command line's scheduled policies do.
  *
  * # Safety
  * `out` must be NULL (refused) or valid for writing a pointer.

@@ -116,6 +116,10 @@ pub struct AcuitySettings {
     /// Least time an object keeps an LOD it refined to before it may
     /// coarsen again, s (finite, >= 0; 0, the default: off).
     pub switch_min_dwell_s: f32,
+    /// How long the view must ask for a coarser LOD without a break
+    /// before the object coarsens, s (finite, >= 0; 0, the default: off).
+    /// A coarsening in a frame whose `s` fell happens at once.
+    pub switch_coarsen_delay_s: f32,
     /// Non-zero: list the objects whose LOD changed each frame
     /// (`acuity_selector_changes`). Default 0.
     pub track_changes: u32,
@@ -322,6 +326,7 @@ impl AcuitySettings {
             fade_time_s: d.fade_time_s,
             switch_hysteresis: d.switch_hysteresis,
             switch_min_dwell_s: d.switch_min_dwell_s,
+            switch_coarsen_delay_s: d.switch_coarsen_delay_s,
             track_changes: d.track_changes.into(),
             cull: d.cull.into(),
             budgeted_scale: (d.scale_rule == acuity::ScaleRule::Budgeted).into(),
@@ -346,6 +351,10 @@ impl AcuitySettings {
             switch_min_dwell_s: non_negative(
                 self.switch_min_dwell_s,
                 "settings.switch_min_dwell_s",
+            )?,
+            switch_coarsen_delay_s: non_negative(
+                self.switch_coarsen_delay_s,
+                "settings.switch_coarsen_delay_s",
             )?,
             track_changes: self.track_changes != 0,
             cull: self.cull != 0,

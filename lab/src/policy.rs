@@ -70,6 +70,13 @@ pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = 0.15;
 /// never lands on that window's edge.
 pub const SCHEDULED_MIN_DWELL_S: f32 = 0.3;
 
+/// How long the view must ask those policies' objects for a coarser LOD
+/// before they coarsen ([`SelectorSettings::switch_coarsen_delay_s`]), s:
+/// a head sweep carries objects out of the fovea and back within about
+/// a second, and each trip out would otherwise cost a coarsening and a
+/// refinement; a falling `s` still coarsens at once.
+pub const SCHEDULED_COARSEN_DELAY_S: f32 = 0.5;
+
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Choice {
@@ -183,6 +190,11 @@ impl PolicyRunner {
             },
             switch_min_dwell_s: if scheduled {
                 SCHEDULED_MIN_DWELL_S
+            } else {
+                0.0
+            },
+            switch_coarsen_delay_s: if scheduled {
+                SCHEDULED_COARSEN_DELAY_S
             } else {
                 0.0
             },

@@ -11,16 +11,24 @@
 //!   it that long. A switch the same way as the last one is no reversal
 //!   and waits for nothing: an object coarsened a frame ago coarsens
 //!   further at once when `s` keeps falling (a controller coming down from
-//!   an overload sees each lower `s` in the next frame's time).
+//!   an overload sees each lower `s` in the next frame's time);
+//! - by delay
+//!   ([`SelectorSettings::switch_coarsen_delay_s`](super::SelectorSettings::switch_coarsen_delay_s)):
+//!   a coarsening the view asks for (the object moved out towards the
+//!   periphery, got smaller or faster) happens only once the view has
+//!   asked for it that long without a break, so an object a head sweep
+//!   carries out and back within the delay keeps its LOD throughout. A
+//!   coarsening asked for in a frame whose `s` is lower than the last
+//!   one's (a scheduler coming down) happens at once.
 //!
-//! Switches to finer LODs happen at once, so both rules only ever keep
+//! Switches to finer LODs happen at once, so the rules only ever keep
 //! more detail than the plain rule: an object near a transition's critical
 //! frequency switches once as the view or `s` crosses it, not back and
 //! forth with every small wobble.
 //!
 //! The threshold rule reads the thresholds the loop records for budgets;
-//! both look at every object once, and change only those whose selection
-//! became coarser.
+//! the rules look at every object once, and change only those whose
+//! selection became coarser.
 
 use super::Selection;
 use super::Selector;
@@ -33,6 +41,9 @@ pub(super) struct LastSwitch {
     pub(super) at_s: f64,
     pub(super) to_finer: bool,
 }
+
+/// A slot whose view asks for no coarser LOD (in `coarser_since`).
+pub(super) const NOT_WAITING: f64 = f64::NEG_INFINITY;
 
 impl LastSwitch {
     /// An object that never switched.
@@ -49,6 +60,8 @@ pub(super) struct Hysteresis {
     factor: f32,
     /// `switch_min_dwell_s` (0: off).
     dwell_s: f32,
+    /// `switch_coarsen_delay_s` (0: off).
+    coarsen_delay_s: f32,
 }
 
 impl Hysteresis {
@@ -57,10 +70,10 @@ impl Hysteresis {
         self.factor > 1.0
     }
 
-    /// The dwell rule alone (under a budget, whose own order has its
-    /// hysteresis), or `None` when it is off.
+    /// The rules by time alone (under a budget, whose own order has its
+    /// hysteresis), or `None` when both are off.
     pub(super) fn dwell_only(self) -> Option<Self> {
-        (self.dwell_s > 0.0).then_some(Self {
+        (self.dwell_s > 0.0 || self.coarsen_delay_s > 0.0).then_some(Self {
             factor: 1.0,
             ..self
         })
@@ -71,18 +84,27 @@ impl Selector {
     /// The frame's hysteresis, or `None` when both rules are off.
     pub(super) fn hysteresis(&self) -> Option<Hysteresis> {
         let h = self.settings.switch_hysteresis;
-        let dwell_s = self.settings.switch_min_dwell_s;
         let factor = if h.is_finite() && h > 0.0 {
             1.0 + h.min(1.0)
         } else {
             1.0
         };
-        let dwell_s = if dwell_s.is_finite() && dwell_s > 0.0 {
-            dwell_s
-        } else {
-            0.0
-        };
-        (factor > 1.0 || dwell_s > 0.0).then_some(Hysteresis { factor, dwell_s })
+        let time_s = |t: f32| if t.is_finite() && t > 0.0 { t } else { 0.0 };
+        let dwell_s = time_s(self.settings.switch_min_dwell_s);
+        let coarsen_delay_s = time_s(self.settings.switch_coarsen_delay_s);
+        (factor > 1.0 || dwell_s > 0.0 || coarsen_delay_s > 0.0).then_some(Hysteresis {
+            factor,
+            dwell_s,
+            coarsen_delay_s,
+        })
+    }
+
+    /// Whether `scale` (this frame's `s`) is lower than the last frame's
+    /// that applied the hysteresis; records it.
+    pub(super) fn scale_fell(&mut self, scale: f32) -> bool {
+        let fell = scale < self.hysteresis_scale;
+        self.hysteresis_scale = scale;
+        fell
     }
 
     /// Advances the dwell rule's clock by a frame's `dt_s` (not finite or
@@ -111,23 +133,34 @@ impl Selector {
     /// Holds back switches to coarser LODs (the module docs), from this
     /// frame's recorded thresholds and last frame's selections.
     /// With `room`, a switch is held back only while the triangles it
-    /// keeps fit in what is left of it (in slot order). Returns the
-    /// triangles held back.
-    pub(super) fn apply_hysteresis(&mut self, hysteresis: Hysteresis, room: Option<u64>) -> u64 {
+    /// keeps fit in what is left of it (in slot order). `scale_fell`: this
+    /// frame's `s` is lower than the last one's, so coarsenings do not
+    /// wait for the delay. Returns the triangles held back.
+    pub(super) fn apply_hysteresis(
+        &mut self,
+        hysteresis: Hysteresis,
+        room: Option<u64>,
+        scale_fell: bool,
+    ) -> u64 {
         let mut room = room.unwrap_or(u64::MAX);
         let mut kept = 0u64;
         let multi = self.multi().min(self.previous.len());
         if hysteresis.dwell_s > 0.0 {
             self.last_switch.resize(multi, LastSwitch::NEVER);
         }
+        let delay_s = f64::from(hysteresis.coarsen_delay_s);
+        if delay_s > 0.0 {
+            self.coarser_since.resize(multi, NOT_WAITING);
+        }
         let thresholds = hysteresis.needs_thresholds() && self.budget.len() >= multi;
         for slot in 0..multi {
             let (now, before) = (self.selections[slot], self.previous[slot]);
-            if now == before {
-                continue;
-            }
             // Into or out of view is no switch between LODs.
-            if now.is_culled() || before.is_culled() {
+            let coarser = now.0 > before.0 && !now.is_culled() && !before.is_culled();
+            if !coarser && let Some(since) = self.coarser_since.get_mut(slot) {
+                *since = NOT_WAITING;
+            }
+            if now == before || now.is_culled() || before.is_culled() {
                 continue;
             }
             let mut chosen = now;
@@ -142,6 +175,15 @@ impl Selector {
                 if self.reverses_within(slot, hysteresis.dwell_s, false) {
                     held = usize::from(before.0);
                 }
+                if delay_s > 0.0 && !scale_fell {
+                    let since = &mut self.coarser_since[slot];
+                    if *since == NOT_WAITING {
+                        *since = self.clock_s;
+                    }
+                    if self.clock_s - *since < delay_s {
+                        held = usize::from(before.0);
+                    }
+                }
                 let held = held.max(usize::from(before.0));
                 let t = &self.profiles[self.object_profiles[slot] as usize].triangles;
                 let extra = u64::from(t[held].saturating_sub(t[usize::from(now.0)]));
@@ -151,6 +193,11 @@ impl Selector {
                     chosen = Selection(held as u8);
                     self.selections[slot] = chosen;
                 }
+            }
+            if chosen.0 > before.0
+                && let Some(since) = self.coarser_since.get_mut(slot)
+            {
+                *since = NOT_WAITING;
             }
             if chosen != before
                 && let Some(last) = self.last_switch.get_mut(slot)

@@ -242,6 +242,19 @@ pub struct SelectorSettings {
     /// over a transition does not flicker between two LODs faster than
     /// this.
     pub switch_min_dwell_s: f32,
+    /// How long the view must ask for a coarser LOD without a break before
+    /// the object coarsens, s (the frames' `dt_s` summed); NaN and values
+    /// not `> 0` are off, the default. A coarsening asked for in a frame
+    /// whose `s` is lower than the last frame's (a scheduler coming down
+    /// from an overload) happens at once, and switches to finer LODs
+    /// always do, so the rule only keeps detail: an object that a head
+    /// sweep carries out towards the periphery and back within the delay
+    /// keeps its LOD, where the plain rule would coarsen it and ask for
+    /// the detail back (a visible pop in the fovea). Under
+    /// [`Selector::select_within_budget`] the held LOD stays only while
+    /// the budget has room for it; under [`ScaleRule::Budgeted`] at
+    /// `s < 1` it stays whatever the budget needs, until `s` falls.
+    pub switch_coarsen_delay_s: f32,
     /// The widest vector instructions the loop may use, detected at run
     /// time (with the feature `simd-dispatch` on x86-64, else ignored). The
     /// results are bit-identical at every level (nothing is fused or
@@ -364,6 +377,7 @@ impl Default for SelectorSettings {
             budget_hysteresis: 0.5,
             switch_hysteresis: 0.0,
             switch_min_dwell_s: 0.0,
+            switch_coarsen_delay_s: 0.0,
             simd: SimdLevel::Widest,
             observer: Observer::default(),
             eccentricity_model: EccentricityModel::default(),

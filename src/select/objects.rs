@@ -12,7 +12,7 @@ use glam::{DVec3, Quat};
 use crate::camera::{MAX_WORLD_COORDINATE, normalized_rotation};
 use crate::error::{Error, Result};
 
-use super::hysteresis::LastSwitch;
+use super::hysteresis::{LastSwitch, NOT_WAITING};
 use super::store::{EMPTY_BLOCK, Lane, NO_HISTORY, NO_MOTION};
 use super::{BLOCK, Diagnostics, ObjectDesc, ObjectId, ProfileId, Selection, Selector};
 
@@ -242,6 +242,9 @@ impl Selector {
         if let Some(last) = self.last_switch.get_mut(slot) {
             *last = LastSwitch::NEVER;
         }
+        if let Some(since) = self.coarser_since.get_mut(slot) {
+            *since = NOT_WAITING;
+        }
         self.slot_ids[slot] = id;
         self.handles[id.index as usize].slot = slot as u32;
     }
@@ -325,6 +328,7 @@ impl Selector {
         self.previous.pop();
         self.slot_ids.pop();
         self.last_switch.truncate(self.selections.len());
+        self.coarser_since.truncate(self.selections.len());
     }
 
     /// Moves the per-slot outputs and the handle of the object at `from`
@@ -340,6 +344,9 @@ impl Selector {
                 .get(from)
                 .copied()
                 .unwrap_or(LastSwitch::NEVER);
+        }
+        if to < self.coarser_since.len() {
+            self.coarser_since[to] = self.coarser_since.get(from).copied().unwrap_or(NOT_WAITING);
         }
         let id = self.slot_ids[from];
         self.slot_ids[to] = id;

@@ -143,6 +143,13 @@ pub struct Selector {
     /// and per slot when and which way its selection last changed.
     pub(super) clock_s: f64,
     pub(super) last_switch: Vec<LastSwitch>,
+    /// Per slot, since when (by the clock) the view has asked for a
+    /// coarser LOD without a break (`-inf`: it does not), for
+    /// [`SelectorSettings::switch_coarsen_delay_s`].
+    pub(super) coarser_since: Vec<f64>,
+    /// The `s` of the last frame that applied the hysteresis: a lower one
+    /// is a scheduler lowering `s`, whose coarsenings do not wait.
+    pub(super) hysteresis_scale: f32,
     /// The `s` the last frame's thresholds (`budget`) were recorded at;
     /// `None` when that frame recorded none.
     pub(super) recorded_scale: Option<f32>,
@@ -189,6 +196,8 @@ impl Selector {
             chain_start: Vec::new(),
             clock_s: 0.0,
             last_switch: Vec::new(),
+            coarser_since: Vec::new(),
+            hysteresis_scale: 1.0,
             recorded_scale: None,
         }
     }
@@ -400,7 +409,8 @@ impl Selector {
         self.run(frame, frame.scale, diagnostics, biased || thresholds)?;
         if let Some(h) = hysteresis {
             self.advance_clock(frame.dt_s);
-            self.apply_hysteresis(h, None);
+            let scale_fell = self.scale_fell(frame.scale);
+            self.apply_hysteresis(h, None, scale_fell);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(biased, diagnostics);
@@ -499,11 +509,17 @@ impl Selector {
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
         }
-        // Coarsenings before the dwell time, and switches waiting for a
-        // saccade, hold finer LODs only within the budget's room.
+        // Coarsenings before the dwell time or the coarsening delay, and
+        // switches waiting for a saccade, hold finer LODs only within the
+        // budget's room (a budget from `s` holds them whatever it needs,
+        // unless `s` fell).
         if let Some(h) = dwell {
             let room = triangle_budget.saturating_sub(triangles);
-            triangles += self.apply_hysteresis(h, (!strict_dwell).then_some(room));
+            let scale_fell = match budget {
+                Budget::UniformAt(scale) => self.scale_fell(scale),
+                Budget::Triangles(_) => false,
+            };
+            triangles += self.apply_hysteresis(h, (!strict_dwell).then_some(room), scale_fell);
         }
         triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         Ok(BudgetOutcome {
