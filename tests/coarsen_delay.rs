@@ -206,3 +206,37 @@ fn the_wait_follows_an_object_moved_to_another_slot() {
         "the wait started again in the new slot"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        ..proptest::prelude::ProptestConfig::default()
+    })]
+
+    /// The delay only keeps detail: whatever the camera, `s` and `dt` do
+    /// (`dt = 0` included), no object is ever coarser than without it.
+    #[test]
+    fn the_delay_never_draws_an_object_coarser_than_the_plain_rule(
+        frames in proptest::collection::vec((-20.0f64..60.0, 0.05f32..=1.0, 0.0f32..0.2), 1..20),
+    ) {
+        let settings = SelectorSettings {
+            switch_coarsen_delay_s: DELAY_S,
+            ..SelectorSettings::default()
+        };
+        let (mut sel, ids) = random_scene(settings, 200, 13, DVec3::ZERO);
+        let (mut plain, _) = random_scene(SelectorSettings::default(), 200, 13, DVec3::ZERO);
+        for (z, scale, dt_s) in frames {
+            let mut frame = frame_at(DVec3::new(0.0, 0.0, z), dt_s);
+            frame.scale = scale;
+            sel.select(&frame).unwrap();
+            plain.select(&frame).unwrap();
+            for (&shown, &asked) in lods(&sel, &ids).iter().zip(&lods(&plain, &ids)) {
+                proptest::prop_assert_eq!(shown.is_culled(), asked.is_culled());
+                if let (Some(shown), Some(asked)) = (shown.lod(), asked.lod()) {
+                    proptest::prop_assert!(shown <= asked, "LOD {} where the plain rule draws {}", shown, asked);
+                }
+            }
+        }
+    }
+}
