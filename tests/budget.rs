@@ -5,10 +5,10 @@
 mod common;
 
 use acuity::{
-    BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc, ObjectId, ProfileId,
-    ScaleRule, Selection, Selector, SelectorSettings, VisibilityBudget,
+    BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc, ObjectId, ScaleRule,
+    Selection, Selector, SelectorSettings, VisibilityBudget,
 };
-use common::{display, four_lod_profile, frame_at, lods, random_scene};
+use common::{display, four_lod_profile, frame_at, lods, on_axis, random_scene};
 use glam::{DVec3, Quat};
 
 /// Selects within `fraction` of `full` triangles and checks that the
@@ -218,16 +218,6 @@ fn best_effort_coarsens_the_smaller_of_two_objects_whose_steps_are_as_visible_fi
 
 /// An object of radius 1 on the view axis at depth `z` (negative: in
 /// front of a camera at the origin looking down -z).
-fn on_axis(sel: &mut Selector, profile: ProfileId, z: f64) -> ObjectId {
-    sel.add_object(ObjectDesc {
-        center: DVec3::new(0.0, 0.0, z),
-        radius: 1.0,
-        rotation: Quat::IDENTITY,
-        profile,
-    })
-    .unwrap()
-}
-
 fn with_scale(mut frame: FrameInput, scale: f32) -> FrameInput {
     frame.scale = scale;
     frame

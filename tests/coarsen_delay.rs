@@ -5,9 +5,9 @@
 
 mod common;
 
-use acuity::{Components, ObjectDesc, ObjectId, ProfileId, Selection, Selector, SelectorSettings};
-use common::{display, four_lod_profile, frame_at, lods, random_scene};
-use glam::{DVec3, Quat};
+use acuity::{Components, ObjectId, Selection, Selector, SelectorSettings};
+use common::{display, four_lod_profile, frame_at, lods, on_axis, random_scene};
+use glam::DVec3;
 
 const DT_S: f32 = 1.0 / 15.0;
 const DELAY_S: f32 = 0.25;
@@ -171,16 +171,6 @@ fn under_a_budget_the_delay_holds_a_coarsening_only_within_the_room() {
             );
         }
     }
-}
-
-fn on_axis(sel: &mut Selector, profile: ProfileId, z: f64) -> ObjectId {
-    sel.add_object(ObjectDesc {
-        center: DVec3::new(0.0, 0.0, z),
-        radius: 1.0,
-        rotation: Quat::IDENTITY,
-        profile,
-    })
-    .unwrap()
 }
 
 #[test]

@@ -4,8 +4,8 @@
 
 use acuity::profile::{Feature, PROFILE_FORMAT_VERSION, Profile, TransitionFeatures};
 use acuity::{
-    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, Selection, Selector, SelectorSettings,
-    Tracker,
+    Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, ProfileId, Selection, Selector,
+    SelectorSettings, Tracker,
 };
 use glam::{DVec3, Quat, Vec3};
 use rand::{RngExt, SeedableRng};
@@ -194,4 +194,15 @@ pub fn random_scene(
 /// Each object's selection.
 pub fn lods(sel: &Selector, ids: &[ObjectId]) -> Vec<Selection> {
     ids.iter().map(|&id| sel.selection(id)).collect()
+}
+
+/// An object of radius 1 on the view axis of [`frame_at`] at `z`.
+pub fn on_axis(sel: &mut Selector, profile: ProfileId, z: f64) -> ObjectId {
+    sel.add_object(ObjectDesc {
+        center: DVec3::new(0.0, 0.0, z),
+        radius: 1.0,
+        rotation: Quat::IDENTITY,
+        profile,
+    })
+    .unwrap()
 }
