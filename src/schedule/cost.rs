@@ -9,6 +9,12 @@ pub const FLOOR_SLOPES: u32 = 3;
 /// Weight of a slope between two frames in the cost model's local
 /// per-triangle cost.
 const LOCAL_SLOPE_RATE: f32 = 0.2;
+/// A frame whose per-triangle cost is below this fraction of the learned
+/// one shows a load gone ([`CostModel::observe`]): three standard
+/// deviations of a 10% frame-to-frame noise.
+const FORGET_BELOW: f32 = 0.7;
+/// Weight of such a frame in the learned per-triangle cost.
+const FORGET_RATE: f32 = 0.5;
 
 /// A linear frame-cost model, `frame_s = fixed_s + per_triangle_s *
 /// triangles`, fitted online from measured frames, that turns a target
@@ -21,7 +27,7 @@ pub struct CostModel {
     pub fixed_s: f32,
     /// Time per triangle, s, as learned: a frame slower than predicted
     /// raises it (so a budget shrinks in proportion, which never
-    /// overshoots).
+    /// overshoots); a frame far faster (a load gone) lowers it half-way.
     pub per_triangle_s: f32,
     /// Weight of a new observation in the running fit, `(0, 1]`.
     pub learning_rate: f32,
@@ -130,7 +136,16 @@ impl CostModel {
             return;
         }
         let measured = ((frame_time_s - self.fixed_s).max(0.0) / triangles as f32).max(1e-15);
-        self.per_triangle_s += a * (measured - self.per_triangle_s);
+        // A frame far cheaper than the learned cost says (beyond any
+        // frame-to-frame noise) means a load has gone, a spike's included:
+        // half of the gap goes at once, so the budget does not stay
+        // starved for the seconds the running fit would take.
+        let rate = if measured < FORGET_BELOW * self.per_triangle_s {
+            a.max(FORGET_RATE)
+        } else {
+            a
+        };
+        self.per_triangle_s += rate * (measured - self.per_triangle_s);
     }
 
     /// The predicted time of a frame at every visible object's coarsest
@@ -191,6 +206,34 @@ impl CostModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_budget_comes_back_within_a_few_frames_of_a_spike_ending() {
+        // 10,000 triangles at 1 us each, then 10 frames with 20 ms more
+        // (a spike the running fit reads as per-triangle cost), then the
+        // frames of before again. With the fit alone the budget five
+        // frames later was 59% of the budget before; it must be 75%.
+        let mut m = CostModel::new(0.0, 1e-6);
+        let steady = |m: &mut CostModel, k: u64, extra_s: f32| {
+            let n = if k.is_multiple_of(2) { 10_000 } else { 12_000 };
+            m.observe(1e-6 * n as f32 + extra_s, n);
+        };
+        for k in 0..60 {
+            steady(&mut m, k, 0.0);
+        }
+        let before = m.triangle_budget(15e-3);
+        for k in 0..10 {
+            steady(&mut m, k, 20e-3);
+        }
+        for k in 0..5 {
+            steady(&mut m, k, 0.0);
+        }
+        let after = m.triangle_budget(15e-3);
+        assert!(
+            after as f64 >= 0.75 * before as f64,
+            "{after} triangles five frames after the spike, {before} before"
+        );
+    }
 
     #[test]
     fn a_guess_far_from_the_frames_never_puts_the_floor_above_them() {
