@@ -164,7 +164,7 @@ impl Selector {
                 continue;
             }
             let mut chosen = now;
-            if now.0 > before.0 {
+            if coarser {
                 let mut held = usize::from(now.0);
                 let entry = self.budget.get(slot).copied().unwrap_or_default();
                 if thresholds && entry.row != u32::MAX {
