@@ -136,6 +136,8 @@ impl PolicyRunner {
         let cross_fade_s = world.scene.run.cross_fade_s as f32;
         let selector_fades = !(policy == Policy::Full || policy.is_screen_size());
         let scheduled = policy.is_scheduled() && !policy.is_untuned();
+        // The switch rules of the tuned schedulers; off elsewhere.
+        let when_scheduled = |v: f32| if scheduled { v } else { 0.0 };
         let settings = SelectorSettings {
             fade_time_s: if selector_fades { cross_fade_s } else { 0.0 },
             components: components(policy).unwrap_or(Components::ALL),
@@ -183,21 +185,9 @@ impl PolicyRunner {
             } else {
                 SelectorSettings::default().budget_hysteresis
             },
-            switch_hysteresis: if scheduled {
-                SCHEDULED_SWITCH_HYSTERESIS
-            } else {
-                0.0
-            },
-            switch_min_dwell_s: if scheduled {
-                SCHEDULED_MIN_DWELL_S
-            } else {
-                0.0
-            },
-            switch_coarsen_delay_s: if scheduled {
-                SCHEDULED_COARSEN_DELAY_S
-            } else {
-                0.0
-            },
+            switch_hysteresis: when_scheduled(SCHEDULED_SWITCH_HYSTERESIS),
+            switch_min_dwell_s: when_scheduled(SCHEDULED_MIN_DWELL_S),
+            switch_coarsen_delay_s: when_scheduled(SCHEDULED_COARSEN_DELAY_S),
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);

@@ -177,6 +177,12 @@ impl ReactiveSettings {
         s
     }
 
+    /// Whether a cost floor (s; `None`: unknown) lies above the period: no
+    /// choice of LODs then brings a frame within it.
+    fn beyond_reach(&self, floor_s: Option<f32>) -> bool {
+        floor_s.is_some_and(|f| f > self.target_frame_s)
+    }
+
     /// The frame time aimed at, s, for a relative variation `sigma`.
     fn aim_s(&self, sigma: f32) -> f32 {
         let fraction = self
@@ -438,8 +444,7 @@ impl ReactiveScheduler {
     /// Whether the last frame's cost floor lay above the period (see
     /// [`update_with_floor`](Self::update_with_floor)).
     pub fn target_unreachable(&self) -> bool {
-        self.floor_s
-            .is_some_and(|f| f > self.settings.target_frame_s)
+        self.settings.beyond_reach(self.floor_s)
     }
 
     /// The last frame's cost floor, s: its time with every visible object
@@ -650,8 +655,7 @@ impl PredictiveScheduler {
 
     /// Whether the last frame's cost floor lay above the period.
     pub fn target_unreachable(&self) -> bool {
-        self.floor_s
-            .is_some_and(|f| f > self.settings.target_frame_s)
+        self.settings.beyond_reach(self.floor_s)
     }
 
     /// The last frame's cost floor, s, as for

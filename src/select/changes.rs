@@ -14,7 +14,7 @@
 //! objects that do not switch cost nothing.
 
 use super::objects::NONE;
-use super::{Fade, FrameInput, ObjectId, Selector};
+use super::{Fade, FrameInput, ObjectId, Selector, positive_or_zero};
 
 /// Selections compared at once.
 const GROUP: usize = 64;
@@ -87,7 +87,7 @@ impl Selector {
     /// no limit); returns the triangles they add.
     pub(super) fn finish_frame(&mut self, frame: &FrameInput, room: Option<u64>) -> u64 {
         let fade_s = self.settings.fade_time_s;
-        let fading = fade_s.is_finite() && fade_s > 0.0;
+        let fading = positive_or_zero(fade_s) > 0.0;
         let deferring = self.defers_coarsening();
         if self.settings.track_changes || fading || deferring {
             self.list_changes();
@@ -112,11 +112,7 @@ impl Selector {
         let max_wait_s = self.settings.defer_coarsening_s;
         let mut room = room.unwrap_or(u64::MAX);
         let mut held = 0u64;
-        let step_s = if dt_s.is_finite() && dt_s > 0.0 {
-            dt_s
-        } else {
-            0.0
-        };
+        let step_s = positive_or_zero(dt_s);
         std::mem::swap(&mut self.deferred, &mut self.deferred_before);
         self.deferred.clear();
         if self.in_saccade == Some(false) {
@@ -166,11 +162,7 @@ impl Selector {
     }
 
     fn advance_fades(&mut self, dt_s: f32, fade_s: f32) {
-        let step = if dt_s.is_finite() && dt_s > 0.0 {
-            dt_s / fade_s
-        } else {
-            0.0
-        };
+        let step = positive_or_zero(dt_s) / fade_s;
         let mut i = 0;
         while i < self.fades.len() {
             self.fades[i].fraction += step;

@@ -13,7 +13,7 @@ use crate::fastmath;
 use crate::viewpoints::{self, ViewpointLookup};
 
 use super::tables::{Ladder, ProfileRows, RowLayout, Tables};
-use super::{FrameInput, SelectorSettings, SimdLevel};
+use super::{FrameInput, SelectorSettings, SimdLevel, positive_or_zero};
 
 #[derive(Clone, Copy)]
 pub(super) struct FrameConsts<'a> {
@@ -92,11 +92,7 @@ pub(super) fn frame_consts<'a>(
         world_velocity: settings.eyes_counter_rotate && frame.gaze.tracker == Tracker::Head,
         eye_to_world: world_to_eye.transpose(),
         margin_deg,
-        radius_margin: if settings.radius_margin.is_finite() && settings.radius_margin > 0.0 {
-            settings.radius_margin
-        } else {
-            0.0
-        },
+        radius_margin: positive_or_zero(settings.radius_margin),
         scale,
         fill_deg: display.filling_angular_size_deg(),
         dt_valid,

@@ -32,24 +32,28 @@
 
 use super::Selection;
 use super::Selector;
+use super::positive_or_zero;
 use super::rule::count_coarser;
 
-/// When an object last switched LOD (by the hysteresis' clock, s) and
-/// which way.
+/// What the rules by time remember of one object (per slot, for the
+/// objects with more than one LOD), by the hysteresis' clock, s.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct LastSwitch {
-    pub(super) at_s: f64,
-    pub(super) to_finer: bool,
+pub(super) struct SwitchRecord {
+    /// When the object last switched LOD (`-inf`: never) ...
+    pub(super) last_at_s: f64,
+    /// ... and whether that switch went to a finer LOD.
+    pub(super) last_to_finer: bool,
+    /// Since when the view has asked for a coarser LOD without a break
+    /// (`-inf`: it does not).
+    pub(super) coarser_since_s: f64,
 }
 
-/// A slot whose view asks for no coarser LOD (in `coarser_since`).
-pub(super) const NOT_WAITING: f64 = f64::NEG_INFINITY;
-
-impl LastSwitch {
-    /// An object that never switched.
-    pub(super) const NEVER: Self = Self {
-        at_s: f64::NEG_INFINITY,
-        to_finer: false,
+impl SwitchRecord {
+    /// An object that never switched and is asked for no coarser LOD.
+    pub(super) const FRESH: Self = Self {
+        last_at_s: f64::NEG_INFINITY,
+        last_to_finer: false,
+        coarser_since_s: f64::NEG_INFINITY,
     };
 }
 
@@ -89,9 +93,8 @@ impl Selector {
         } else {
             1.0
         };
-        let time_s = |t: f32| if t.is_finite() && t > 0.0 { t } else { 0.0 };
-        let dwell_s = time_s(self.settings.switch_min_dwell_s);
-        let coarsen_delay_s = time_s(self.settings.switch_coarsen_delay_s);
+        let dwell_s = positive_or_zero(self.settings.switch_min_dwell_s);
+        let coarsen_delay_s = positive_or_zero(self.settings.switch_coarsen_delay_s);
         (factor > 1.0 || dwell_s > 0.0 || coarsen_delay_s > 0.0).then_some(Hysteresis {
             factor,
             dwell_s,
@@ -110,9 +113,7 @@ impl Selector {
     /// Advances the dwell rule's clock by a frame's `dt_s` (not finite or
     /// negative: 0); before the frame's selection.
     pub(super) fn advance_clock(&mut self, dt_s: f32) {
-        if dt_s.is_finite() && dt_s > 0.0 {
-            self.clock_s += f64::from(dt_s);
-        }
+        self.clock_s += f64::from(positive_or_zero(dt_s));
     }
 
     /// Whether a switch of the object in `slot` to a finer (`to_finer`) or
@@ -120,8 +121,8 @@ impl Selector {
     /// `dwell_s` ago (by the clock as advanced for this frame).
     pub(super) fn reverses_within(&self, slot: usize, dwell_s: f32, to_finer: bool) -> bool {
         dwell_s > 0.0
-            && self.last_switch.get(slot).is_some_and(|last| {
-                last.to_finer != to_finer && self.clock_s - last.at_s < f64::from(dwell_s)
+            && self.switch_records.get(slot).is_some_and(|r| {
+                r.last_to_finer != to_finer && self.clock_s - r.last_at_s < f64::from(dwell_s)
             })
     }
 
@@ -145,20 +146,17 @@ impl Selector {
         let mut room = room.unwrap_or(u64::MAX);
         let mut kept = 0u64;
         let multi = self.multi().min(self.previous.len());
-        if hysteresis.dwell_s > 0.0 {
-            self.last_switch.resize(multi, LastSwitch::NEVER);
-        }
         let delay_s = f64::from(hysteresis.coarsen_delay_s);
-        if delay_s > 0.0 {
-            self.coarser_since.resize(multi, NOT_WAITING);
+        if hysteresis.dwell_s > 0.0 || delay_s > 0.0 {
+            self.switch_records.resize(multi, SwitchRecord::FRESH);
         }
         let thresholds = hysteresis.needs_thresholds() && self.budget.len() >= multi;
         for slot in 0..multi {
             let (now, before) = (self.selections[slot], self.previous[slot]);
             // Into or out of view is no switch between LODs.
             let coarser = now.0 > before.0 && !now.is_culled() && !before.is_culled();
-            if !coarser && let Some(since) = self.coarser_since.get_mut(slot) {
-                *since = NOT_WAITING;
+            if !coarser && let Some(r) = self.switch_records.get_mut(slot) {
+                r.coarser_since_s = f64::NEG_INFINITY;
             }
             if now == before || now.is_culled() || before.is_culled() {
                 continue;
@@ -176,8 +174,8 @@ impl Selector {
                     held = usize::from(before.0);
                 }
                 if delay_s > 0.0 && !scale_fell {
-                    let since = &mut self.coarser_since[slot];
-                    if *since == NOT_WAITING {
+                    let since = &mut self.switch_records[slot].coarser_since_s;
+                    if *since == f64::NEG_INFINITY {
                         *since = self.clock_s;
                     }
                     if self.clock_s - *since < delay_s {
@@ -194,18 +192,14 @@ impl Selector {
                     self.selections[slot] = chosen;
                 }
             }
-            if chosen.0 > before.0
-                && let Some(since) = self.coarser_since.get_mut(slot)
-            {
-                *since = NOT_WAITING;
-            }
             if chosen != before
-                && let Some(last) = self.last_switch.get_mut(slot)
+                && let Some(r) = self.switch_records.get_mut(slot)
             {
-                *last = LastSwitch {
-                    at_s: self.clock_s,
-                    to_finer: chosen.0 < before.0,
-                };
+                if chosen.0 > before.0 {
+                    r.coarser_since_s = f64::NEG_INFINITY;
+                }
+                r.last_at_s = self.clock_s;
+                r.last_to_finer = chosen.0 < before.0;
             }
         }
         kept

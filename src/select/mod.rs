@@ -490,11 +490,7 @@ impl VisibilityBudget {
             }
             VisibilityBudget::Deg(deg) => deg,
         };
-        if deg.is_finite() && deg > 0.0 {
-            deg
-        } else {
-            0.0
-        }
+        positive_or_zero(deg)
     }
 }
 
@@ -562,4 +558,10 @@ pub struct BudgetOutcome {
     pub triangles: u64,
     /// Whether the budget was met (false when even the lowest `s` is over).
     pub within_budget: bool,
+}
+
+/// A duration, rate or setting that is on only when finite and > 0: `v`
+/// then, else 0 (off; NaN, infinities and negatives included).
+pub(super) fn positive_or_zero(v: f32) -> f32 {
+    if v.is_finite() && v > 0.0 { v } else { 0.0 }
 }

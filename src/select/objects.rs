@@ -12,9 +12,11 @@ use glam::{DVec3, Quat};
 use crate::camera::{MAX_WORLD_COORDINATE, normalized_rotation};
 use crate::error::{Error, Result};
 
-use super::hysteresis::{LastSwitch, NOT_WAITING};
+use super::hysteresis::SwitchRecord;
 use super::store::{EMPTY_BLOCK, Lane, NO_HISTORY, NO_MOTION};
-use super::{BLOCK, Diagnostics, ObjectDesc, ObjectId, ProfileId, Selection, Selector};
+use super::{
+    BLOCK, Diagnostics, ObjectDesc, ObjectId, ProfileId, Selection, Selector, positive_or_zero,
+};
 
 /// No position in a list; a free handle's slot.
 pub(super) const NONE: u32 = u32::MAX;
@@ -239,11 +241,8 @@ impl Selector {
         // Not selected yet: culled, to the change list too.
         self.selections[slot] = Selection::CULLED;
         self.previous[slot] = Selection::CULLED;
-        if let Some(last) = self.last_switch.get_mut(slot) {
-            *last = LastSwitch::NEVER;
-        }
-        if let Some(since) = self.coarser_since.get_mut(slot) {
-            *since = NOT_WAITING;
+        if let Some(r) = self.switch_records.get_mut(slot) {
+            *r = SwitchRecord::FRESH;
         }
         self.slot_ids[slot] = id;
         self.handles[id.index as usize].slot = slot as u32;
@@ -261,8 +260,7 @@ impl Selector {
             .reserve(n.saturating_sub(self.changed_slots.len()));
         self.switched_from
             .reserve(n.saturating_sub(self.switched_from.len()));
-        let fade_s = self.settings.fade_time_s;
-        if fade_s.is_finite() && fade_s > 0.0 {
+        if positive_or_zero(self.settings.fade_time_s) > 0.0 {
             self.fades.reserve(n.saturating_sub(self.fades.len()));
         }
         if self.defers_coarsening() {
@@ -327,8 +325,7 @@ impl Selector {
         self.selections.pop();
         self.previous.pop();
         self.slot_ids.pop();
-        self.last_switch.truncate(self.selections.len());
-        self.coarser_since.truncate(self.selections.len());
+        self.switch_records.truncate(self.selections.len());
     }
 
     /// Moves the per-slot outputs and the handle of the object at `from`
@@ -338,15 +335,12 @@ impl Selector {
         self.previous[to] = self.previous[from];
         // The dwell rule's record follows the object (kept for the
         // objects with more than one LOD only, whose slots come first).
-        if to < self.last_switch.len() {
-            self.last_switch[to] = self
-                .last_switch
+        if to < self.switch_records.len() {
+            self.switch_records[to] = self
+                .switch_records
                 .get(from)
                 .copied()
-                .unwrap_or(LastSwitch::NEVER);
-        }
-        if to < self.coarser_since.len() {
-            self.coarser_since[to] = self.coarser_since.get(from).copied().unwrap_or(NOT_WAITING);
+                .unwrap_or(SwitchRecord::FRESH);
         }
         let id = self.slot_ids[from];
         self.slot_ids[to] = id;

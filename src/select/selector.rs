@@ -18,7 +18,7 @@ use super::adjust::Adjust;
 use super::best_effort::ChainStep;
 use super::dispatch::{dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
-use super::hysteresis::LastSwitch;
+use super::hysteresis::SwitchRecord;
 use super::kernel::Outputs;
 use super::objects::{Handle, SingleRecord};
 use super::rule::count_coarser;
@@ -27,6 +27,7 @@ use super::tables::{CompiledProfile, Ladder, ProfileRows, RowLayout, Tables};
 use super::{
     BudgetOutcome, BudgetRule, Diagnostics, Fade, FrameInput, NO_LOOKUP, ObjectId, ProfileId,
     SACCADE_THRESHOLD_DEG_PER_S, ScaleRule, Selection, SelectorSettings, ViewpointRule,
+    positive_or_zero,
 };
 
 /// What a budgeted selection must fit.
@@ -140,13 +141,11 @@ pub struct Selector {
     pub(super) chains: Vec<ChainStep>,
     pub(super) chain_start: Vec<u32>,
     /// The switch hysteresis' clock (the sum of the frames' `dt_s`), s,
-    /// and per slot when and which way its selection last changed.
+    /// and per slot what its rules by time remember (the last switch, for
+    /// [`SelectorSettings::switch_min_dwell_s`], and since when a coarser
+    /// LOD is asked for, for [`SelectorSettings::switch_coarsen_delay_s`]).
     pub(super) clock_s: f64,
-    pub(super) last_switch: Vec<LastSwitch>,
-    /// Per slot, since when (by the clock) the view has asked for a
-    /// coarser LOD without a break (`-inf`: it does not), for
-    /// [`SelectorSettings::switch_coarsen_delay_s`].
-    pub(super) coarser_since: Vec<f64>,
+    pub(super) switch_records: Vec<SwitchRecord>,
     /// The `s` of the last frame that applied the hysteresis: a lower one
     /// is a scheduler lowering `s`, whose coarsenings do not wait.
     pub(super) hysteresis_scale: f32,
@@ -195,8 +194,7 @@ impl Selector {
             chains: Vec::new(),
             chain_start: Vec::new(),
             clock_s: 0.0,
-            last_switch: Vec::new(),
-            coarser_since: Vec::new(),
+            switch_records: Vec::new(),
             hysteresis_scale: 1.0,
             recorded_scale: None,
         }
@@ -683,8 +681,7 @@ impl Selector {
     /// Whether switches to coarser LODs wait for saccades
     /// ([`SelectorSettings::defer_coarsening_s`]).
     pub(super) fn defers_coarsening(&self) -> bool {
-        let wait_s = self.settings.defer_coarsening_s;
-        wait_s.is_finite() && wait_s > 0.0
+        positive_or_zero(self.settings.defer_coarsening_s) > 0.0
     }
 
     /// The loop over every object, writing the selections and, when asked,
