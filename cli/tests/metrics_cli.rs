@@ -74,6 +74,8 @@ fn experiments_run_small_and_write_their_files() {
                 "4",
                 "--target-hz",
                 "60",
+                "--screen-size-periods",
+                "0.9,1.1",
             ]
             .iter()
             .map(|x| x.to_string())
@@ -131,9 +133,24 @@ fn experiments_run_small_and_write_their_files() {
         "screen_size_reactive",
         "acuity_reactive_no_headroom",
         "acuity_predictive_no_headroom",
+        "screen_size_reactive_period_0.9",
+        "screen_size_reactive_period_1.1",
     ] {
         assert!(names.contains(&p), "{p} missing: {held}");
     }
+    // Screen size's controller told 1.1 times the period aims 1.1 times
+    // as long in its first frame (before it has seen the frames vary).
+    let first_aim_ms = |policy: &str| -> f64 {
+        let row = frames
+            .lines()
+            .find(|r| r.split(',').next() == Some(policy))
+            .unwrap_or_else(|| panic!("{policy}: {frames}"));
+        let column = frame_header.split(',').position(|c| c == "aim_ms").unwrap();
+        row.split(',').nth(column).unwrap().parse().unwrap()
+    };
+    let ratio =
+        first_aim_ms("screen_size_reactive_period_1.1") / first_aim_ms("screen_size_reactive");
+    assert!((ratio - 1.1).abs() < 1e-3, "{ratio}");
     // Speedup dumps per N and trial.
     for n in ["n0003_trial0", "n0006_trial0"] {
         let trial = dir.join("speedup-frames").join(n);

@@ -214,7 +214,7 @@ fn unknown_policy_and_zero_frames_are_refused() {
 #[test]
 fn out_of_range_arguments_exit_2_naming_the_limit() {
     // Clap's errors come whole (error, usage); the commands' in one line.
-    let cases: [(&[&str], &str); 10] = [
+    let cases: [(&[&str], &str); 11] = [
         (&["acuity", "--velocity", "nan"], "--velocity"),
         (&["acuity", "--velocity=-1"], "--velocity"),
         (&["acuity", "--eccentricity=-10"], "--eccentricity"),
@@ -263,6 +263,17 @@ fn out_of_range_arguments_exit_2_naming_the_limit() {
                 "0",
             ],
             "--screen-size-bias",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--screen-size-periods",
+                "0.9,3",
+            ],
+            "--screen-size-periods",
         ),
         (
             &[

@@ -308,9 +308,15 @@ impl<'w> Player<'w> {
         let mut runners = configs
             .iter()
             .map(|&(p, knob)| {
-                let bias = if p.is_screen_size() { knob } else { 1.0 };
+                let bias = if p.knob_is_bias() {
+                    knob
+                } else if p.is_screen_size() {
+                    world.scene.run.screen_size_bias
+                } else {
+                    1.0
+                };
                 let mut r = PolicyRunner::new(world, p, bias, cost)?;
-                if p != Policy::Full && !p.is_screen_size() {
+                if p != Policy::Full && !p.knob_is_bias() {
                     r.set_knob(knob);
                 }
                 Ok(r)

@@ -36,7 +36,10 @@ pub fn components(policy: Policy) -> Option<Components> {
         })
     };
     match policy {
-        Policy::Full | Policy::ScreenSize | Policy::ScreenSizeReactive => None,
+        Policy::Full
+        | Policy::ScreenSize
+        | Policy::ScreenSizeReactive
+        | Policy::ScreenSizeReactivePeriod => None,
         Policy::AcuitySize => c(true, false, false),
         Policy::AcuitySizeEcc => c(true, true, false),
         Policy::AcuitySizeVel => c(true, false, true),
@@ -240,7 +243,8 @@ impl PolicyRunner {
         let scheduler = match policy {
             Policy::AcuityReactive
             | Policy::AcuityReactiveBudgeted
-            | Policy::ScreenSizeReactive => Some(Scheduler::Reactive(
+            | Policy::ScreenSizeReactive
+            | Policy::ScreenSizeReactivePeriod => Some(Scheduler::Reactive(
                 ReactiveScheduler::new(tuned()?).with_cost_model(cost),
             )),
             Policy::AcuityReactiveNoHeadroom => Some(Scheduler::Reactive(ReactiveScheduler::new(
@@ -276,10 +280,27 @@ impl PolicyRunner {
     }
 
     /// Sets the policy's knob: the budgeted policies' share of full
-    /// detail's triangles (clamped into (0, 1]), else the global scale
-    /// factor ([`PolicyRunner::set_scale`]).
+    /// detail's triangles (clamped into (0, 1]),
+    /// [`Policy::ScreenSizeReactivePeriod`]'s period factor (its controller
+    /// told a period of `knob` times the real one; not finite or <= 0: 1),
+    /// else the global scale factor ([`PolicyRunner::set_scale`]).
     pub fn set_knob(&mut self, knob: f64) {
-        if self.budget_share.is_some() {
+        if self.policy == Policy::ScreenSizeReactivePeriod {
+            if let Some(Scheduler::Reactive(r)) = &self.scheduler {
+                let factor = if knob.is_finite() && knob > 0.0 {
+                    knob
+                } else {
+                    1.0
+                };
+                let mut settings = *r.settings();
+                settings.target_frame_s *= factor as f32;
+                let mut retimed = ReactiveScheduler::new(settings);
+                if let Some(cost) = r.cost_model() {
+                    retimed = retimed.with_cost_model(*cost);
+                }
+                self.scheduler = Some(Scheduler::Reactive(retimed));
+            }
+        } else if self.budget_share.is_some() {
             self.budget_share = Some(if knob > 0.0 { knob.min(1.0) } else { 1.0 });
         } else {
             self.set_scale(knob);
@@ -346,10 +367,7 @@ impl PolicyRunner {
             }
             None => self.selector.select(&frame)?,
         }
-        if !matches!(
-            self.policy,
-            Policy::Full | Policy::ScreenSize | Policy::ScreenSizeReactive
-        ) {
+        if !(self.policy == Policy::Full || self.policy.is_screen_size()) {
             choice.visibility_deg = self.selector.selection_visibility_deg();
         }
         if self.budget_share.is_some() {
@@ -364,7 +382,7 @@ impl PolicyRunner {
         lods.clear();
         let fov_v = world.scene.display.screen_height_fov_deg();
         // Under the reactive scheduler, screen size's bias times its `s`.
-        let screen_scale = if self.policy == Policy::ScreenSizeReactive {
+        let screen_scale = if self.policy.is_screen_size() && self.policy.is_scheduled() {
             f64::from(choice.scale)
         } else {
             1.0
@@ -374,7 +392,7 @@ impl PolicyRunner {
             let lod = match self.policy {
                 _ if sel.is_culled() => None,
                 Policy::Full => Some(0),
-                Policy::ScreenSize | Policy::ScreenSizeReactive => {
+                _ if self.policy.is_screen_size() => {
                     let to_object_m = inst.center_m - view.eye_m;
                     let mut h =
                         relative_height(inst.radius_m, to_object_m.length(), fov_v) * screen_scale;

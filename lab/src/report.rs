@@ -225,7 +225,7 @@ pub fn format_table(summaries: &[Summary]) -> String {
         let _ = writeln!(
             t,
             "{:<18} {:>9.2} {:>9.2} {:>10.0} {:>6.1} {:>8} {:>8} {:>6.2} {:>6.1} {:>6.1} {:>8} {:>8} {:>6.1} {:>5.2}{}",
-            s.policy.name(),
+            s.policy.label(s.knob),
             s.mean_ms,
             s.p95_ms,
             s.triangles,
@@ -261,7 +261,7 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
             let _ = writeln!(
                 t,
                 "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{},{},{},{}",
-                f.policy.name(),
+                r.policy.label(r.knob),
                 f.frame,
                 f.t_s,
                 f.frame_ms,

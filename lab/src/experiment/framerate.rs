@@ -27,6 +27,7 @@ use crate::report::{
 use crate::scene::Policy;
 
 use super::CommonArgs;
+use super::equal_time::{at_equal_frame_time, equal_time_csv, equal_time_plot, equal_time_table};
 
 /// Arguments of `acuity experiment framerate`.
 #[derive(Debug, Clone)]
@@ -53,6 +54,18 @@ pub struct FramerateArgs {
     /// `scenes/vr_sweep.toml`.
     #[cfg_attr(feature = "clap", arg(long, default_value_t = 32.0))]
     pub screen_size_bias: f64,
+    /// Frame periods, as factors of the real one (comma-separated, each
+    /// 0.5 to 2; none by default), each told to a copy of
+    /// `screen_size_reactive`'s controller
+    /// (`screen_size_reactive_period_F`), whose frames then land longer or
+    /// shorter. With `--metric fvvdp` screen size's JOD is interpolated at
+    /// each acuity scheduler's mean frame time over these runs and
+    /// `screen_size_reactive` (no extrapolation): the comparison at equal
+    /// frame time. `0.8,0.9,1.1` spans the schedulers' spread on the
+    /// shipped scenes (0.9,1.1 left the predictive scheduler outside on
+    /// `scenes/default.toml`).
+    #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
+    pub screen_size_periods: Vec<f64>,
     /// Error metrics, comma-separated: none by default; `fvvdp` scores
     /// every sequence with FovVideoVDP against full detail (needs Python
     /// with pyfvvdp; dumps the frames, to `<out>/frames/` without
@@ -104,6 +117,15 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
             args.screen_size_bias
         )));
     }
+    if let Some(f) = args
+        .screen_size_periods
+        .iter()
+        .find(|f| !(0.5..=2.0).contains(*f))
+    {
+        return Err(input_error(format!(
+            "--screen-size-periods: {f} is outside 0.5 to 2"
+        )));
+    }
     let fvvdp = args.metric.contains(&Metric::Fvvdp);
     if fvvdp {
         check_fvvdp()?;
@@ -117,6 +139,8 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     if let Some(hz) = args.target_hz {
         world.scene.run.target_hz = hz;
     }
+    // The bias of the screen-size runs whose knob is their period.
+    world.scene.run.screen_size_bias = args.screen_size_bias;
     let mut settings = PlaySettings::from_scene(&world.scene, args.frames)?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;
@@ -133,9 +157,22 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
         (0.25 * d, 0.375 * d, extra_ms),
         (0.625 * d, 0.75 * d, extra_ms),
     ];
-    let policies = FRAMERATE_POLICIES;
+    let s = world.scene.run.scale_factor;
+    let mut configs: Vec<(Policy, f64)> = FRAMERATE_POLICIES
+        .iter()
+        .map(|&p| match p {
+            Policy::Full => (p, 1.0),
+            _ if p.is_screen_size() => (p, args.screen_size_bias),
+            _ => (p, s),
+        })
+        .collect();
+    configs.extend(
+        args.screen_size_periods
+            .iter()
+            .map(|&f| (Policy::ScreenSizeReactivePeriod, f)),
+    );
     let bar = crate::progress::bar(
-        u64::from(settings.frames) * policies.len() as u64,
+        u64::from(settings.frames) * configs.len() as u64,
         "frames",
         args.common.profiles.quiet,
     );
@@ -144,15 +181,6 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     player.set_progress(&bar);
     // The calibration frames at bias 1 (screen size far coarser than full
     // detail) span the triangle counts the schedulers reach.
-    let s = world.scene.run.scale_factor;
-    let configs: Vec<(Policy, f64)> = policies
-        .iter()
-        .map(|&p| match p {
-            Policy::Full => (p, 1.0),
-            _ if p.is_screen_size() => (p, args.screen_size_bias),
-            _ => (p, s),
-        })
-        .collect();
     let runs = player.play_configs(&configs, 1.0);
     bar.finish_and_clear();
     let runs = runs?;
@@ -177,6 +205,19 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     table.push_str(&held_table(&held));
     write_csv_with_json(&frames_csv(&runs), &out.join("framerate.csv"))?;
     write_csv_with_json(&held_csv(&held), &out.join("framerate_summary.csv"))?;
+    let equal = at_equal_frame_time(&sums);
+    if !equal.is_empty() {
+        table.push('\n');
+        table.push_str(&equal_time_table(&equal));
+        write_csv_with_json(
+            &equal_time_csv(&equal),
+            &out.join("framerate_equal_time.csv"),
+        )?;
+        save_line_plot(
+            &equal_time_plot(&sums),
+            &out.join("framerate_equal_time.png"),
+        )?;
+    }
     let over_time = |f: &dyn Fn(&crate::player::FrameRecord) -> f64| -> Vec<Series> {
         runs.iter()
             .map(|r| Series {
@@ -215,8 +256,13 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     )?;
     if !args.common.profiles.quiet {
         eprintln!(
-            "wrote {} (framerate.csv/.json, framerate_summary.csv/.json, framerate_time and framerate_scale .png/.svg)",
-            out.display()
+            "wrote {} (framerate.csv/.json, framerate_summary.csv/.json, framerate_time and framerate_scale .png/.svg{})",
+            out.display(),
+            if equal.is_empty() {
+                ""
+            } else {
+                ", framerate_equal_time.csv/.json and .png/.svg"
+            }
         );
     }
     Ok(FramerateOutcome {
@@ -230,6 +276,8 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
 pub struct HeldRate {
     /// The policy.
     pub policy: Policy,
+    /// Its knob ([`PolicyRun::knob`]).
+    pub knob: f64,
     /// Share of the frames outside the load spikes over the period.
     pub over_outside_spikes: f64,
     /// Of those, the share after the start-up ([`START_UP_S`]): the frames
@@ -307,6 +355,7 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
                 .collect();
             HeldRate {
                 policy: r.policy,
+                knob: r.knob,
                 over_outside_spikes: share(&outside, over),
                 over_settled: share(&settled, over),
                 over_in_spikes: share(&inside, over),
@@ -340,7 +389,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<30} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
+        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
         "over% set",
@@ -360,8 +409,8 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<30} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
-            r.policy.name(),
+            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
+            r.policy.label(r.knob),
             pct(Some(r.over_outside_spikes)),
             pct(Some(r.over_settled)),
             pct(Some(r.over_in_spikes)),
@@ -391,7 +440,7 @@ pub fn held_csv(rows: &[HeldRate]) -> String {
         let _ = writeln!(
             t,
             "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3}",
-            r.policy.name(),
+            r.policy.label(r.knob),
             r.over_outside_spikes,
             r.over_settled,
             r.over_in_spikes,

@@ -4,6 +4,7 @@
 //! `framerate`, one experiment each; this module holds their shared
 //! options and the command.
 
+mod equal_time;
 mod error_curve;
 mod framerate;
 mod speedup;

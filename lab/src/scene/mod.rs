@@ -476,6 +476,12 @@ pub enum Policy {
     /// engine that knows its extra work (a shader to compile, a chunk to
     /// stream) gets.
     AcuityPredictiveAnnounced,
+    /// As [`Policy::ScreenSizeReactive`] (the bias: the run's
+    /// `screen_size_bias`), its controller told a frame period of the knob
+    /// times the real one, so that its frames land longer or shorter: the
+    /// points `experiment framerate` interpolates screen size's JOD
+    /// between at another policy's mean frame time. Not named by scenes.
+    ScreenSizeReactivePeriod,
 }
 
 impl Policy {
@@ -530,6 +536,7 @@ impl Policy {
                 | Policy::AcuityPredictiveNoHeadroom
                 | Policy::AcuityReactiveBudgeted
                 | Policy::AcuityPredictiveAnnounced
+                | Policy::ScreenSizeReactivePeriod
         )
     }
 
@@ -544,6 +551,27 @@ impl Policy {
 
     /// Whether this policy draws the screen-size table's LODs.
     pub fn is_screen_size(self) -> bool {
+        matches!(
+            self,
+            Policy::ScreenSize | Policy::ScreenSizeReactive | Policy::ScreenSizeReactivePeriod
+        )
+    }
+
+    /// The policy's name in reports: [`Policy::name`], with the knob
+    /// appended where one run plays the policy under several knobs that the
+    /// schedulers' tables must tell apart
+    /// ([`Policy::ScreenSizeReactivePeriod`]).
+    pub fn label(self, knob: f64) -> String {
+        if self == Policy::ScreenSizeReactivePeriod {
+            format!("{}_{knob}", self.name())
+        } else {
+            self.name().to_owned()
+        }
+    }
+
+    /// Whether this policy's knob ([`crate::player::PolicyRun::knob`]) is
+    /// the screen-size table's bias.
+    pub fn knob_is_bias(self) -> bool {
         matches!(self, Policy::ScreenSize | Policy::ScreenSizeReactive)
     }
 
@@ -592,6 +620,7 @@ impl Policy {
             Policy::AcuityAllPooled => "acuity_all_pooled",
             Policy::AcuityReactiveBudgeted => "acuity_reactive_budgeted",
             Policy::AcuityPredictiveAnnounced => "acuity_predictive_announced",
+            Policy::ScreenSizeReactivePeriod => "screen_size_reactive_period",
         }
     }
 }
