@@ -226,6 +226,21 @@ const MIN_LOWER_FACTOR: f32 = 0.98;
 /// and took a second to climb back.
 const MAX_DESCENT_GAIN: f32 = 1.0;
 
+/// A frame over the period whose time rose by more than this, in log
+/// terms, from the last frame, beyond what a change of `s` explains
+/// ([`SCALE_COST_EXPONENT`]; for the predictive scheduler, of the
+/// triangles drawn, at a cost at most proportional to them), shows a new
+/// load: the scheduler keeps the `s` (or budget) it had, and returns to it
+/// at once when a frame falls by as much beyond that change and by half the
+/// time the load added (the load gone), instead of climbing back by its
+/// raise rule for a second or two. The largest change of frame time the
+/// learned variation takes for jitter ([`VARIATION_CLIP`]).
+const LOAD_STEP: f32 = VARIATION_CLIP;
+/// The largest exponent of `s` a frame's cost is taken to follow when a
+/// step of the frame time is told apart from a change of load
+/// ([`LOAD_STEP`]): quadratic, as for the gain.
+const SCALE_COST_EXPONENT: f32 = 2.0;
+
 /// Weight of a frame in the learned relative variation.
 const VARIATION_RATE: f32 = 0.05;
 /// Largest relative change between two frames that counts towards the
@@ -352,7 +367,12 @@ impl FrameStats {
 /// [`ReactiveSettings::clear_ratio`] of the period, i.e. the load itself
 /// has dropped. Coming down from an overload whose frame time does not
 /// follow `s` (the first halvings below full detail switch few objects),
-/// the step grows to the one that fits a cost proportional to `s`.
+/// the step grows to the one that fits a cost proportional to `s`. A load
+/// that steps the frame time up at an unchanged `s` and over the period
+/// (another task's work, a spike of many frames) is remembered with the
+/// `s` before it: when the frame time steps down again by as much, `s`
+/// returns there at once instead of climbing back by the raise rule,
+/// whose steps are small where the frame has much fixed time.
 #[derive(Clone, Debug)]
 pub struct ReactiveScheduler {
     settings: ReactiveSettings,
@@ -364,6 +384,12 @@ pub struct ReactiveScheduler {
     floor_s: Option<f32>,
     /// `s` before the spike that lowered it, until calm frames return it.
     before_spike: Option<f32>,
+    /// `s` before a load that lasts lowered it, and the time the load
+    /// added, s, until a frame shows the load gone (see
+    /// [`LOAD_STEP`]).
+    before_load: Option<(f32, f32)>,
+    /// The `s` the last frame was drawn at and its time, s.
+    last_frame: (f32, f32),
     /// After a frame over the period lowered `s`: the `s` before that
     /// move and the frame's time, to judge the next frame by.
     descent: Option<(f32, f32)>,
@@ -384,6 +410,8 @@ impl ReactiveScheduler {
             stats: FrameStats::new(),
             floor_s: None,
             before_spike: None,
+            before_load: None,
+            last_frame: (f32::NAN, 0.0),
             descent: None,
             cost: None,
         }
@@ -482,6 +510,21 @@ impl ReactiveScheduler {
             self.stats
                 .missed(frame_time_s, st.target_frame_s, st.band(self.stats.sigma()));
         let settled = self.stats.frames >= st.settle_frames;
+        // A step of the frame time that the change of `s` since the last
+        // frame does not explain is a change of load.
+        let (last_scale, last_s) = self.last_frame;
+        self.last_frame = (old, frame_time_s);
+        // (Before a first frame, `last_scale` is NaN: no step.)
+        let by_scale = SCALE_COST_EXPONENT * (old / last_scale).ln();
+        let step = (frame_time_s / last_s).ln();
+        let rose = step > LOAD_STEP + by_scale.max(0.0) && by_scale.is_finite();
+        let fell = step < -LOAD_STEP + by_scale.min(0.0) && by_scale.is_finite();
+        if self.before_load.is_none() && rose && frame_time_s > st.target_frame_s {
+            self.before_load = Some((old, frame_time_s - last_s));
+        }
+        let load_gone = self
+            .before_load
+            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
         if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
@@ -523,6 +566,14 @@ impl ReactiveScheduler {
                 next = next.min(0.97 * c);
             }
             self.scale = next.clamp(st.min_scale, 1.0).max(old.min(1.0));
+        }
+        if load_gone && let Some((s0, _)) = self.before_load {
+            self.ceiling = None;
+            self.scale = self.scale.max(s0).min(1.0);
+        }
+        // Climbed back by the raise rule: nothing left to return to.
+        if self.scale > old && self.before_load.is_some_and(|(s0, _)| self.scale >= s0) {
+            self.before_load = None;
         }
         if self.scale >= old {
             self.descent = None;
@@ -582,8 +633,10 @@ fn finite_or(x: f32, fallback: f32) -> f32 {
 /// what the cost model says fits the middle of the dead band; it rises
 /// after as many frames in a row below the band, by half the band at
 /// least. As for the reactive controller, a budget whose raise overloaded
-/// the frame becomes a ceiling until the load drops, and while the cost
-/// floor lies above the period the budget does not fall.
+/// the frame becomes a ceiling until the load drops, while the cost
+/// floor lies above the period the budget does not fall, and after a load
+/// that lasts the budget returns at once to the one before it when the
+/// frame time steps down again ([`LOAD_STEP`]).
 #[derive(Clone, Debug)]
 pub struct PredictiveScheduler {
     settings: ReactiveSettings,
@@ -602,6 +655,12 @@ pub struct PredictiveScheduler {
     /// The last announced load and the budget it left, held while the
     /// announcements stay within 10% of it and the frames on time.
     announced_budget: Option<(f32, u64)>,
+    /// The budget before a load that lasts lowered it, and the time the
+    /// load added, s, until a frame shows the load gone ([`LOAD_STEP`]).
+    before_load: Option<(u64, f32)>,
+    /// The last frame's triangles and time, s (its announced load taken
+    /// out).
+    last_frame: (u64, f32),
 }
 
 impl PredictiveScheduler {
@@ -618,6 +677,8 @@ impl PredictiveScheduler {
             floor_s: None,
             announced_s: 0.0,
             announced_budget: None,
+            before_load: None,
+            last_frame: (0, 0.0),
         }
     }
 
@@ -725,6 +786,25 @@ impl PredictiveScheduler {
         if full_frame_s > (1.0 + band) * st.target_frame_s {
             self.announced_budget = None;
         }
+        // A step of the frame time that its change of triangles does not
+        // explain (a cost at most proportional to them) is a change of load.
+        let (last_triangles, last_s) =
+            std::mem::replace(&mut self.last_frame, (triangles, frame_time_s));
+        let by_triangles = (triangles as f32 / last_triangles as f32).ln();
+        let step = (frame_time_s / last_s).ln();
+        let known = by_triangles.is_finite() && step.is_finite();
+        let rose = known && step > LOAD_STEP + by_triangles.max(0.0);
+        let fell = known && step < -LOAD_STEP + by_triangles.min(0.0);
+        if self.before_load.is_none()
+            && rose
+            && frame_time_s > st.target_frame_s
+            && let Some(held) = self.held
+        {
+            self.before_load = Some((held, frame_time_s - last_s));
+        }
+        let load_gone = self
+            .before_load
+            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
         let Some(held) = self.held else {
             self.held = Some(fresh);
             return;
@@ -752,8 +832,21 @@ impl PredictiveScheduler {
             self.last_raised = true;
             self.held = Some(raised);
             self.stats.moved();
+            // Climbed back by the raise rule: nothing left to return to.
+            if self.before_load.is_some_and(|(b0, _)| raised >= b0) {
+                self.before_load = None;
+            }
         } else if unreachable {
             self.stats.moved();
+        }
+        // The load has gone: back to the budget from before it at once.
+        if load_gone && let Some((b0, _)) = self.before_load.take() {
+            self.ceiling = None;
+            if self.held.is_some_and(|h| h < b0) {
+                self.last_raised = true;
+                self.held = Some(b0);
+                self.stats.moved();
+            }
         }
     }
 }
