@@ -341,16 +341,16 @@ fn after_a_lasting_load_spike_the_predictive_budget_is_back_within_a_few_frames(
             CostModel::new(fixed_s, plant.seconds_per_triangle),
         );
         let load = 1.5;
-        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> f32 {
+        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> (f32, f32) {
             let (_, triangles) = plant.fit_budget(sched.triangle_budget());
             let t = fixed_s + load * triangles * plant.seconds_per_triangle + extra_s;
             sched.observe(t, triangles as u64, plant.coarsest_triangles());
-            triangles
+            (triangles, t)
         };
         for _ in 0..300 {
             frame(&mut sched, 0.0);
         }
-        let before = frame(&mut sched, 0.0);
+        let (before, _) = frame(&mut sched, 0.0);
         for _ in 0..20 {
             frame(&mut sched, 0.5 * period);
         }
@@ -371,6 +371,33 @@ fn after_a_lasting_load_spike_the_predictive_budget_is_back_within_a_few_frames(
         );
         assert!(late <= 1, "seed {seed}: {late} frames late: {trace:?}");
     }
+}
+
+#[test]
+fn a_step_of_load_just_over_the_period_is_learned_at_once_without_a_measured_slope() {
+    // A scene of 100,000 triangles at 1 ms plus 0.1 us each, at 60 Hz: the
+    // budget holds every triangle, so no two frames differ in triangles
+    // and the cost model never measures a slope (no floor, no additive
+    // reading). A load of 6 ms puts the frames 2% over the period, not
+    // by the dead band: learning it at the running rate took 10 late
+    // frames; a step of load is news of more load, learned at once.
+    let period = 1.0 / 60.0;
+    let (fixed_s, per_triangle_s, scene) = (1e-3, 1e-7, 100_000u64);
+    let mut sched = PredictiveScheduler::new(
+        ReactiveSettings::for_rate_hz(60.0).unwrap(),
+        CostModel::new(fixed_s, per_triangle_s),
+    );
+    let mut frame = |extra_s: f32| -> f32 {
+        let triangles = sched.triangle_budget().min(scene);
+        let t = fixed_s + per_triangle_s * triangles as f32 + extra_s;
+        sched.observe(t, triangles, 10_000);
+        t
+    };
+    for _ in 0..100 {
+        frame(0.0);
+    }
+    let late = (0..40).filter(|_| frame(6e-3) > period).count();
+    assert!(late <= 3, "{late} frames late");
 }
 
 #[test]

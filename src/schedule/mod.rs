@@ -762,12 +762,34 @@ impl PredictiveScheduler {
         // The announced load was budgeted for; what is left is the scene's.
         let (full_frame_s, frame_time_s) = (frame_time_s, (frame_time_s - announced_s).max(1e-6));
         let st = self.settings;
-        // A frame clearly over the period (by more than the dead band,
-        // beyond the jitter) is news of more load: learn it at once (a
-        // budget shrunk in proportion never overshoots).
         let band = st.band(self.stats.sigma());
+        // A step of the frame time that its change of triangles does not
+        // explain (a cost at most proportional to them) is a change of load.
+        let (last_triangles, last_s) =
+            std::mem::replace(&mut self.last_frame, (triangles, frame_time_s));
+        let by_triangles = (triangles as f32 / last_triangles as f32).ln();
+        let step = (frame_time_s / last_s).ln();
+        let known = by_triangles.is_finite() && step.is_finite();
+        let rose = known && step > LOAD_STEP + by_triangles.max(0.0);
+        let fell = known && step < -LOAD_STEP + by_triangles.min(0.0);
+        let over = frame_time_s > st.target_frame_s;
+        if self.before_load.is_none()
+            && rose
+            && over
+            && let Some(held) = self.held
+        {
+            self.before_load = Some((held, frame_time_s - last_s));
+        }
+        let load_gone = self
+            .before_load
+            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
+        // A frame clearly over the period (by more than the dead band,
+        // beyond the jitter), or over it under a load that came as a step,
+        // is news of more load: learn it at once (a budget shrunk in
+        // proportion never overshoots).
         let rate = self.cost.learning_rate;
-        if frame_time_s > (1.0 + band) * st.target_frame_s {
+        let loaded = over && (rose || self.before_load.is_some());
+        if loaded || frame_time_s > (1.0 + band) * st.target_frame_s {
             self.cost.learning_rate = rate.max(MISS_LEARNING_RATE);
         }
         self.cost.observe(frame_time_s, triangles);
@@ -786,25 +808,7 @@ impl PredictiveScheduler {
         if full_frame_s > (1.0 + band) * st.target_frame_s {
             self.announced_budget = None;
         }
-        // A step of the frame time that its change of triangles does not
-        // explain (a cost at most proportional to them) is a change of load.
-        let (last_triangles, last_s) =
-            std::mem::replace(&mut self.last_frame, (triangles, frame_time_s));
-        let by_triangles = (triangles as f32 / last_triangles as f32).ln();
-        let step = (frame_time_s / last_s).ln();
-        let known = by_triangles.is_finite() && step.is_finite();
-        let rose = known && step > LOAD_STEP + by_triangles.max(0.0);
-        let fell = known && step < -LOAD_STEP + by_triangles.min(0.0);
-        if self.before_load.is_none()
-            && rose
-            && frame_time_s > st.target_frame_s
-            && let Some(held) = self.held
-        {
-            self.before_load = Some((held, frame_time_s - last_s));
-        }
-        let load_gone = self
-            .before_load
-            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
+
         let Some(held) = self.held else {
             self.held = Some(fresh);
             return;
