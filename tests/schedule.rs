@@ -380,7 +380,7 @@ fn a_step_of_load_just_over_the_period_is_learned_at_once_without_a_measured_slo
     // and the cost model never measures a slope (no floor, no additive
     // reading). A load of 6 ms puts the frames 2% over the period, not
     // by the dead band: learning it at the running rate took 10 late
-    // frames; a step of load is news of more load, learned at once.
+    // frames; the step's frame is news of more load, learned at once.
     let period = 1.0 / 60.0;
     let (fixed_s, per_triangle_s, scene) = (1e-3, 1e-7, 100_000u64);
     let mut sched = PredictiveScheduler::new(
@@ -397,7 +397,7 @@ fn a_step_of_load_just_over_the_period_is_learned_at_once_without_a_measured_slo
         frame(0.0);
     }
     let late = (0..40).filter(|_| frame(6e-3) > period).count();
-    assert!(late <= 3, "{late} frames late");
+    assert!(late <= 4, "{late} frames late");
 }
 
 #[test]

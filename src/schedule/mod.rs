@@ -784,12 +784,11 @@ impl PredictiveScheduler {
             .before_load
             .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
         // A frame clearly over the period (by more than the dead band,
-        // beyond the jitter), or over it under a load that came as a step,
-        // is news of more load: learn it at once (a budget shrunk in
-        // proportion never overshoots).
+        // beyond the jitter), or over it by a step of load, is news of more
+        // load: learn it at once (a budget shrunk in proportion never
+        // overshoots).
         let rate = self.cost.learning_rate;
-        let loaded = over && (rose || self.before_load.is_some());
-        if loaded || frame_time_s > (1.0 + band) * st.target_frame_s {
+        if (rose && over) || frame_time_s > (1.0 + band) * st.target_frame_s {
             self.cost.learning_rate = rate.max(MISS_LEARNING_RATE);
         }
         self.cost.observe(frame_time_s, triangles);
