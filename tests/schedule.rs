@@ -289,7 +289,13 @@ fn after_a_lasting_load_spike_the_reactive_controller_is_back_within_a_few_frame
     // holds through them: that `s` is still the one to return to. With
     // every third seed the load's last frame is heavier, so `s` falls
     // once more and the first frame without the load is drawn at a lower
-    // `s` than the frame before it.
+    // `s` than the frame before it. With every fourth seed one frame in
+    // the load's middle is half the period heavier and out of reach, so
+    // `s` holds through it: the frame after it falls from it by a step,
+    // but not from the load's level. Judged against the last frame alone,
+    // that fall was the load's end: `s` went back up within the load, its
+    // late frames drove `s` lower than the load needed, and nothing was
+    // left to return to (seed 3: back after 9 frames).
     let period = 1.0 / 90.0;
     for seed in 0..20 {
         let plant = Plant::new(seed);
@@ -301,9 +307,14 @@ fn after_a_lasting_load_spike_the_reactive_controller_is_back_within_a_few_frame
         }
         let before = plant.triangles(sched.scale());
         for k in 0..20 {
-            let extra = if seed % 3 == 2 && k == 19 { 1.0 } else { 0.5 };
+            let jolt = seed % 4 == 3 && k == 10;
+            let extra = if (seed % 3 == 2 && k == 19) || jolt {
+                1.0
+            } else {
+                0.5
+            };
             let t = plant.frame_time(sched.scale(), load) + extra * period;
-            let floor = (seed % 2 == 1 && k < 3).then_some(2.0 * period);
+            let floor = ((seed % 2 == 1 && k < 3) || jolt).then_some(2.0 * period);
             sched.update_with_floor(t, floor);
         }
         let (mut back, mut late, mut trace) = (None, 0, Vec::new());

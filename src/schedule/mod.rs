@@ -39,8 +39,10 @@
 use crate::error::{Error, Result, number};
 
 mod cost;
+mod load_step;
 
 pub use cost::{CostModel, FLOOR_SLOPES};
+use load_step::{LoadSteps, SCALE_COST_EXPONENT};
 
 /// Lowest accepted target frame rate, Hz (a frame period of 1 s).
 pub const MIN_TARGET_HZ: f32 = 1.0;
@@ -226,21 +228,6 @@ const MIN_LOWER_FACTOR: f32 = 0.98;
 /// and took a second to climb back.
 const MAX_DESCENT_GAIN: f32 = 1.0;
 
-/// A frame over the period whose time rose by more than this, in log
-/// terms, from the last frame, beyond what a change of `s` explains
-/// ([`SCALE_COST_EXPONENT`]; for the predictive scheduler, of the
-/// triangles drawn, at a cost at most proportional to them), shows a new
-/// load: the scheduler keeps the `s` (or budget) it had, and returns to it
-/// at once when a frame falls by as much beyond that change and by half the
-/// time the load added (the load gone), instead of climbing back by its
-/// raise rule for a second or two. The largest change of frame time the
-/// learned variation takes for jitter ([`VARIATION_CLIP`]).
-const LOAD_STEP: f32 = VARIATION_CLIP;
-/// The largest exponent of `s` a frame's cost is taken to follow when a
-/// step of the frame time is told apart from a change of load
-/// ([`LOAD_STEP`]): quadratic, as for the gain.
-const SCALE_COST_EXPONENT: f32 = 2.0;
-
 /// Weight of a frame in the learned relative variation.
 const VARIATION_RATE: f32 = 0.05;
 /// Largest relative change between two frames that counts towards the
@@ -386,10 +373,10 @@ pub struct ReactiveScheduler {
     before_spike: Option<f32>,
     /// `s` before a load that lasts lowered it, and the time the load
     /// added, s, until a frame shows the load gone (see
-    /// [`LOAD_STEP`]).
+    /// [`load_step::LOAD_STEP`]).
     before_load: Option<(f32, f32)>,
-    /// The `s` the last frame was drawn at and its time, s.
-    last_frame: (f32, f32),
+    /// The last two frames' `s` and times, to tell a step of load by.
+    load_steps: LoadSteps,
     /// After a frame over the period lowered `s`: the `s` before that
     /// move and the frame's time, to judge the next frame by.
     descent: Option<(f32, f32)>,
@@ -411,7 +398,7 @@ impl ReactiveScheduler {
             floor_s: None,
             before_spike: None,
             before_load: None,
-            last_frame: (f32::NAN, 0.0),
+            load_steps: LoadSteps::new(),
             descent: None,
             cost: None,
         }
@@ -510,21 +497,21 @@ impl ReactiveScheduler {
             self.stats
                 .missed(frame_time_s, st.target_frame_s, st.band(self.stats.sigma()));
         let settled = self.stats.frames >= st.settle_frames;
-        // A step of the frame time that the change of `s` since the last
-        // frame does not explain is a change of load.
-        let (last_scale, last_s) = self.last_frame;
-        self.last_frame = (old, frame_time_s);
-        // (Before a first frame, `last_scale` is NaN: no step.)
-        let by_scale = SCALE_COST_EXPONENT * (old / last_scale).ln();
-        let step = (frame_time_s / last_s).ln();
-        let rose = step > LOAD_STEP + by_scale.max(0.0) && by_scale.is_finite();
-        let fell = step < -LOAD_STEP + by_scale.min(0.0) && by_scale.is_finite();
-        if self.before_load.is_none() && rose && frame_time_s > st.target_frame_s {
-            self.before_load = Some((old, frame_time_s - last_s));
+        // A step of the frame time that the change of `s` does not explain
+        // is a change of load.
+        let step = self
+            .load_steps
+            .see(SCALE_COST_EXPONENT * old.ln(), frame_time_s);
+        if self.before_load.is_none()
+            && frame_time_s > st.target_frame_s
+            && let Some(added_s) = step.rose_s
+        {
+            self.before_load = Some((old, added_s));
         }
         let load_gone = self
             .before_load
-            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
+            .zip(step.fell_s)
+            .is_some_and(|((_, added_s), fell_s)| fell_s >= 0.5 * added_s);
         if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
@@ -636,7 +623,7 @@ fn finite_or(x: f32, fallback: f32) -> f32 {
 /// the frame becomes a ceiling until the load drops, while the cost
 /// floor lies above the period the budget does not fall, and after a load
 /// that lasts the budget returns at once to the one before it when the
-/// frame time steps down again ([`LOAD_STEP`]).
+/// frame time steps down again ([`load_step::LOAD_STEP`]).
 #[derive(Clone, Debug)]
 pub struct PredictiveScheduler {
     settings: ReactiveSettings,
@@ -656,11 +643,11 @@ pub struct PredictiveScheduler {
     /// announcements stay within 10% of it and the frames on time.
     announced_budget: Option<(f32, u64)>,
     /// The budget before a load that lasts lowered it, and the time the
-    /// load added, s, until a frame shows the load gone ([`LOAD_STEP`]).
+    /// load added, s, until a frame shows the load gone ([`load_step::LOAD_STEP`]).
     before_load: Option<(u64, f32)>,
-    /// The last frame's triangles and time, s (its announced load taken
-    /// out).
-    last_frame: (u64, f32),
+    /// The last two frames' triangles and times (their announced load
+    /// taken out), to tell a step of load by.
+    load_steps: LoadSteps,
 }
 
 impl PredictiveScheduler {
@@ -678,7 +665,7 @@ impl PredictiveScheduler {
             announced_s: 0.0,
             announced_budget: None,
             before_load: None,
-            last_frame: (0, 0.0),
+            load_steps: LoadSteps::new(),
         }
     }
 
@@ -765,30 +752,27 @@ impl PredictiveScheduler {
         let band = st.band(self.stats.sigma());
         // A step of the frame time that its change of triangles does not
         // explain (a cost at most proportional to them) is a change of load.
-        let (last_triangles, last_s) =
-            std::mem::replace(&mut self.last_frame, (triangles, frame_time_s));
-        let by_triangles = (triangles as f32 / last_triangles as f32).ln();
-        let step = (frame_time_s / last_s).ln();
-        let known = by_triangles.is_finite() && step.is_finite();
-        let rose = known && step > LOAD_STEP + by_triangles.max(0.0);
-        let fell = known && step < -LOAD_STEP + by_triangles.min(0.0);
+        let step = self
+            .load_steps
+            .see((triangles as f32).ln(), frame_time_s);
         let over = frame_time_s > st.target_frame_s;
+        let rose = over && step.rose_s.is_some();
         if self.before_load.is_none()
-            && rose
             && over
-            && let Some(held) = self.held
+            && let Some((held, added_s)) = self.held.zip(step.rose_s)
         {
-            self.before_load = Some((held, frame_time_s - last_s));
+            self.before_load = Some((held, added_s));
         }
         let load_gone = self
             .before_load
-            .is_some_and(|(_, added_s)| fell && last_s - frame_time_s >= 0.5 * added_s);
+            .zip(step.fell_s)
+            .is_some_and(|((_, added_s), fell_s)| fell_s >= 0.5 * added_s);
         // A frame clearly over the period (by more than the dead band,
         // beyond the jitter), or over it by a step of load, is news of more
         // load: learn it at once (a budget shrunk in proportion never
         // overshoots).
         let rate = self.cost.learning_rate;
-        if (rose && over) || frame_time_s > (1.0 + band) * st.target_frame_s {
+        if rose || frame_time_s > (1.0 + band) * st.target_frame_s {
             self.cost.learning_rate = rate.max(MISS_LEARNING_RATE);
         }
         self.cost.observe(frame_time_s, triangles);

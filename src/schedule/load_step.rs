@@ -1,0 +1,130 @@
+//! Telling a step of load from jitter: a change of the frame time that
+//! the frame's own change of cost does not explain, against each of the
+//! last two frames.
+//!
+//! A load that lasts (a spike of many frames, another task's work) shows
+//! as a step of the frame time. Both schedulers keep the knob they had
+//! when it came and return to it when the frame time steps down again,
+//! instead of climbing back by their raise rules. Judged against the last
+//! frame alone, one jittered frame within the load followed by an ordinary
+//! one looked like the load's end: the knob went back up in the middle of
+//! the load, and the late frames that followed drove it far lower than the
+//! load needed. A step is a step from a level, so it must hold against
+//! both of the last two frames.
+
+use super::VARIATION_CLIP;
+
+/// A frame whose time rose by more than this, in log terms, from each of
+/// the last two frames, beyond what its change of cost explains, shows a
+/// new load; a fall by as much shows it gone. The largest change of frame
+/// time the learned variation takes for jitter ([`VARIATION_CLIP`]).
+pub(super) const LOAD_STEP: f32 = VARIATION_CLIP;
+
+/// The largest exponent of `s` a frame's cost is taken to follow when a
+/// step of the frame time is told apart from a change of load
+/// ([`LOAD_STEP`]): quadratic, as for the reactive gain.
+pub(super) const SCALE_COST_EXPONENT: f32 = 2.0;
+
+/// The last two frames, to judge the next one's step of frame time by.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LoadSteps {
+    /// Each frame's log cost (the log of what its cost is at most
+    /// proportional to) and its time, s; most recent first, NaN before a
+    /// frame.
+    last: [(f32, f32); 2],
+}
+
+/// A frame's step of load against the last two frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct LoadStep {
+    /// The frame rose by a step of load: the smaller of its rises over
+    /// the two frames, s.
+    pub rose_s: Option<f32>,
+    /// The frame fell by a step of load: the smaller of its falls below
+    /// the two frames, s.
+    pub fell_s: Option<f32>,
+}
+
+impl LoadSteps {
+    /// No frame seen yet: no step until two frames have been.
+    pub const fn new() -> Self {
+        Self {
+            last: [(f32::NAN, f32::NAN); 2],
+        }
+    }
+
+    /// Judges a frame of `frame_time_s` (s, finite and > 0) whose cost is
+    /// at most proportional to `exp(log_cost)` (for the reactive
+    /// scheduler `s^2`, [`SCALE_COST_EXPONENT`]; for the predictive one
+    /// the triangles drawn), and remembers it. A log cost that is not
+    /// finite (no triangles) judges no step.
+    pub fn see(&mut self, log_cost: f32, frame_time_s: f32) -> LoadStep {
+        let mut step = LoadStep {
+            rose_s: Some(f32::INFINITY),
+            fell_s: Some(f32::INFINITY),
+        };
+        for (last_log_cost, last_s) in self.last {
+            let by_cost = log_cost - last_log_cost;
+            let log_step = (frame_time_s / last_s).ln();
+            if !(by_cost.is_finite() && log_step.is_finite()) {
+                step = LoadStep::default();
+                break;
+            }
+            step.rose_s = step
+                .rose_s
+                .filter(|_| log_step > LOAD_STEP + by_cost.max(0.0))
+                .map(|r| r.min(frame_time_s - last_s));
+            step.fell_s = step
+                .fell_s
+                .filter(|_| log_step < -LOAD_STEP + by_cost.min(0.0))
+                .map(|f| f.min(last_s - frame_time_s));
+        }
+        self.last = [(log_cost, frame_time_s), self.last[0]];
+        step
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frames(times_s: &[f32]) -> Vec<LoadStep> {
+        let mut steps = LoadSteps::new();
+        times_s.iter().map(|&t| steps.see(0.0, t)).collect()
+    }
+
+    #[test]
+    fn a_step_against_both_of_the_last_two_frames_is_a_load() {
+        let steps = frames(&[0.05, 0.05, 0.09, 0.09, 0.05]);
+        assert_eq!(steps[2].rose_s.map(|r| (r * 1e3).round()), Some(40.0));
+        assert_eq!(steps[4].fell_s.map(|f| (f * 1e3).round()), Some(40.0));
+        assert!(steps[3].rose_s.is_none() && steps[3].fell_s.is_none());
+    }
+
+    #[test]
+    fn one_jittered_frame_within_a_load_does_not_end_it() {
+        // Loaded frames of 57 ms, one of 79 ms, then 58 ms again: the fall
+        // from 79 ms is no fall from the level before it.
+        let steps = frames(&[0.057, 0.057, 0.079, 0.058]);
+        assert!(steps[3].fell_s.is_none());
+    }
+
+    #[test]
+    fn a_step_the_cost_explains_is_no_load() {
+        let mut steps = LoadSteps::new();
+        steps.see(0.0, 0.05);
+        steps.see(0.0, 0.05);
+        // Twice the cost, 1.8 times the time.
+        assert_eq!(steps.see(2f32.ln(), 0.09), LoadStep::default());
+    }
+
+    #[test]
+    fn before_two_frames_and_without_a_cost_there_is_no_step() {
+        let steps = frames(&[0.01, 0.05]);
+        assert_eq!(steps[1], LoadStep::default());
+        let mut steps = LoadSteps::new();
+        steps.see(f32::NEG_INFINITY, 0.01);
+        steps.see(f32::NEG_INFINITY, 0.01);
+        assert_eq!(steps.see(f32::NEG_INFINITY, 0.05), LoadStep::default());
+    }
+}
