@@ -752,9 +752,7 @@ impl PredictiveScheduler {
         let band = st.band(self.stats.sigma());
         // A step of the frame time that its change of triangles does not
         // explain (a cost at most proportional to them) is a change of load.
-        let step = self
-            .load_steps
-            .see((triangles as f32).ln(), frame_time_s);
+        let step = self.load_steps.see((triangles as f32).ln(), frame_time_s);
         let over = frame_time_s > st.target_frame_s;
         let rose = over && step.rose_s.is_some();
         if self.before_load.is_none()
