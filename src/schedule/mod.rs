@@ -623,7 +623,7 @@ fn finite_or(x: f32, fallback: f32) -> f32 {
 /// the frame becomes a ceiling until the load drops, while the cost
 /// floor lies above the period the budget does not fall, and after a load
 /// that lasts the budget returns at once to the one before it when the
-/// frame time steps down again ([`load_step::LOAD_STEP`]).
+/// frame time steps down again (by more than its jitter).
 #[derive(Clone, Debug)]
 pub struct PredictiveScheduler {
     settings: ReactiveSettings,
