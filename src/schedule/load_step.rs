@@ -45,6 +45,14 @@ pub(super) struct LoadStep {
     pub fell_s: Option<f32>,
 }
 
+impl LoadStep {
+    /// Whether this frame ends a load that added `added_s` (s): a fall by
+    /// a step of load, and by at least half the time the load added.
+    pub fn ends_load(&self, added_s: f32) -> bool {
+        self.fell_s.is_some_and(|fell_s| fell_s >= 0.5 * added_s)
+    }
+}
+
 impl LoadSteps {
     /// No frame seen yet: no step until two frames have been.
     pub const fn new() -> Self {

@@ -510,8 +510,7 @@ impl ReactiveScheduler {
         }
         let load_gone = self
             .before_load
-            .zip(step.fell_s)
-            .is_some_and(|((_, added_s), fell_s)| fell_s >= 0.5 * added_s);
+            .is_some_and(|(_, added_s)| step.ends_load(added_s));
         if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
@@ -763,8 +762,7 @@ impl PredictiveScheduler {
         }
         let load_gone = self
             .before_load
-            .zip(step.fell_s)
-            .is_some_and(|((_, added_s), fell_s)| fell_s >= 0.5 * added_s);
+            .is_some_and(|(_, added_s)| step.ends_load(added_s));
         // A frame clearly over the period (by more than the dead band,
         // beyond the jitter), or over it by a step of load, is news of more
         // load: learn it at once (a budget shrunk in proportion never
