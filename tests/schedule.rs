@@ -385,6 +385,122 @@ fn after_a_lasting_load_spike_the_predictive_budget_is_back_within_a_few_frames(
 }
 
 #[test]
+fn after_a_lasting_load_the_budget_is_not_cut_for_what_the_load_taught() {
+    // As above, but the view grows 10% dearer while the load lasts, so the
+    // budget from before it puts the frames a little over the aim and the
+    // scheduler must come down. The cost model had learnt the load's
+    // frames; judged by it, the budget fell to 70% of what fits (seed 0)
+    // and every object refined on the return switched back. With the
+    // model from before the load, it must stay above 80%.
+    let period = 1.0 / 90.0;
+    let fixed_s = 1e-3;
+    for seed in 0..20 {
+        let plant = Plant::new(seed);
+        let mut sched = PredictiveScheduler::new(
+            ReactiveSettings::for_rate_hz(90.0).unwrap(),
+            CostModel::new(fixed_s, plant.seconds_per_triangle),
+        );
+        let frame = |sched: &mut PredictiveScheduler, load: f32, extra_s: f32| -> f32 {
+            let (_, triangles) = plant.fit_budget(sched.triangle_budget());
+            let t = fixed_s + load * triangles * plant.seconds_per_triangle + extra_s;
+            sched.observe(t, triangles as u64, plant.coarsest_triangles());
+            triangles
+        };
+        for _ in 0..300 {
+            frame(&mut sched, 1.5, 0.0);
+        }
+        for _ in 0..20 {
+            frame(&mut sched, 1.65, 0.5 * period);
+        }
+        // What fits the aim at the dearer view, by the settings' aim.
+        let aim_s = sched.aim_s();
+        let fits = (aim_s - fixed_s) / (1.65 * plant.seconds_per_triangle);
+        // The first frame without the load is drawn with the budget the
+        // load left; the frame time tells the load gone.
+        frame(&mut sched, 1.65, 0.0);
+        let least = (0..30)
+            .map(|_| frame(&mut sched, 1.65, 0.0))
+            .fold(f32::INFINITY, f32::min);
+        assert!(
+            least >= 0.8 * fits,
+            "seed {seed}: {least} triangles at the least, {fits} fit the aim"
+        );
+    }
+}
+
+/// The plant's load factor and the time added to frame `k` of
+/// [`a_jittered_frame_leaves_no_memory_of_a_load`]: 300 frames at 1.5, one
+/// frame 35% heavier (a step from both frames before it, over the
+/// period), the view growing a third dearer over 60 frames, 20 more, 20
+/// frames with half the period added, then the view alone. `None` past the
+/// end.
+fn jitter_then_load(k: usize, period: f32) -> Option<(f32, f32, f32)> {
+    let dearer = |k: usize| 1.5 + 0.5 * ((k as f32 - 300.0) / 60.0).clamp(0.0, 1.0);
+    match k {
+        0..300 => Some((1.5, 1.0, 0.0)),
+        300 => Some((1.5, 1.35, 0.0)),
+        301..400 => Some((dearer(k), 1.0, 0.0)),
+        400..420 => Some((2.0, 1.0, 0.5 * period)),
+        420..460 => Some((2.0, 1.0, 0.0)),
+        _ => None,
+    }
+}
+
+#[test]
+fn a_jittered_frame_leaves_no_memory_of_a_load() {
+    // One frame of jitter looks like a load's first. Remembered until the
+    // next load's end, its knob (from before the view grew dearer) was
+    // where both schedulers went back to: frames late until they came
+    // down again, every object refined in between switching back (the
+    // predictive scheduler on `scenes/vr_sweep.toml` at 30 Hz). After the
+    // real load the frames must draw at most 10% more triangles than
+    // before it, with at most one frame late. Before, seed 0 drew 45% more
+    // with 2 frames late (reactive), 36% more with 1 late (predictive).
+    let period = 1.0 / 90.0;
+    let fixed_s = 1e-3;
+    for seed in 0..20 {
+        let plant = Plant::new(seed);
+        let mut reactive = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
+        let mut predictive = PredictiveScheduler::new(
+            ReactiveSettings::for_rate_hz(90.0).unwrap(),
+            CostModel::new(fixed_s, plant.seconds_per_triangle),
+        );
+        let (mut before, mut most, mut late) = ([0.0f32; 2], [0.0f32; 2], [0usize; 2]);
+        for k in 0.. {
+            let Some((load, jitter, extra_s)) = jitter_then_load(k, period) else {
+                break;
+            };
+            let drawn = [
+                plant.triangles(reactive.scale()),
+                plant.fit_budget(predictive.triangle_budget()).1,
+            ];
+            let times =
+                drawn.map(|n| (fixed_s + load * n * plant.seconds_per_triangle) * jitter + extra_s);
+            for i in 0..2 {
+                if k == 399 {
+                    before[i] = drawn[i];
+                }
+                if k >= 420 {
+                    most[i] = most[i].max(drawn[i]);
+                    late[i] += usize::from(times[i] > period);
+                }
+            }
+            reactive.update(times[0]);
+            predictive.observe(times[1], drawn[1] as u64, plant.coarsest_triangles());
+        }
+        for (i, name) in ["reactive", "predictive"].iter().enumerate() {
+            assert!(
+                most[i] <= 1.1 * before[i] && late[i] <= 1,
+                "seed {seed}, {name}: {} triangles after the load, {} before, {} frames late",
+                most[i],
+                before[i],
+                late[i]
+            );
+        }
+    }
+}
+
+#[test]
 fn a_step_of_load_just_over_the_period_is_learned_at_once_without_a_measured_slope() {
     // A scene of 100,000 triangles at 1 ms plus 0.1 us each, at 60 Hz: the
     // budget holds every triangle, so no two frames differ in triangles

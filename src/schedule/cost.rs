@@ -148,6 +148,12 @@ impl CostModel {
         self.per_triangle_s += rate * (measured - self.per_triangle_s);
     }
 
+    /// The time of a frame of `triangles` by the learned per-triangle cost
+    /// (the proportional reading), s.
+    pub(super) fn frame_s(&self, triangles: u64) -> f32 {
+        self.fixed_s + self.per_triangle_s * triangles as f32
+    }
+
     /// The predicted time of a frame at every visible object's coarsest
     /// LOD, s, under the load of the last frames: no choice of LOD makes a
     /// frame faster. It is the last frames' time less what their triangles

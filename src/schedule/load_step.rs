@@ -25,6 +25,58 @@ pub(super) const LOAD_STEP: f32 = VARIATION_CLIP;
 /// ([`LOAD_STEP`]): quadratic, as for the reactive gain.
 pub(super) const SCALE_COST_EXPONENT: f32 = 2.0;
 
+/// How long a scheduler keeps what it had before a load, s of frames: a
+/// stall of a second or two (a shader compiled, a chunk streamed in) is
+/// remembered through; after a longer load the raise rules climb back,
+/// since a knob from longer ago says little about what the view now costs.
+pub(super) const LOAD_MEMORY_S: f32 = 4.0;
+
+/// What a scheduler had before a load that lasts (its knob, `K`) and the
+/// time the load added (s), while the frames show the load.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LoadMemory<K> {
+    pub before: K,
+    pub added_s: f32,
+    /// The frame time before the load, s.
+    level_s: f32,
+    /// Frame time since the load came, s.
+    age_s: f32,
+}
+
+impl<K> LoadMemory<K> {
+    /// A load that added `added_s` (s) came with a frame of
+    /// `frame_time_s` (s); the scheduler had `before`.
+    pub fn new(before: K, frame_time_s: f32, added_s: f32) -> Self {
+        Self {
+            before,
+            added_s,
+            level_s: frame_time_s - added_s,
+            age_s: 0.0,
+        }
+    }
+
+    /// One more frame of `frame_time_s` (s): whether the memory stays. It
+    /// goes once older than [`LOAD_MEMORY_S`], and on the frame after the
+    /// load's first if that frame does not show the load: a step of load
+    /// lasts, so the next frame, though drawn with the knob the first one
+    /// lowered, still lies above what the frames before it took by half
+    /// a step ([`LOAD_STEP`]); one frame of jitter does not.
+    /// `expected_s` is that frame's time as the frames before the load
+    /// would have had it (s): the level before the load, or less where the
+    /// scheduler knows what its knob's change saves.
+    pub fn kept(&mut self, frame_time_s: f32, expected_s: impl FnOnce(&Self) -> f32) -> bool {
+        let first = self.age_s == 0.0;
+        self.age_s += frame_time_s;
+        let loaded = !first || frame_time_s > expected_s(self) * (0.5 * LOAD_STEP).exp();
+        loaded && self.age_s <= LOAD_MEMORY_S
+    }
+
+    /// The frame time before the load, s.
+    pub fn level_s(&self) -> f32 {
+        self.level_s
+    }
+}
+
 /// The last two frames, to judge the next one's step of frame time by.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LoadSteps {
@@ -124,6 +176,31 @@ mod tests {
         steps.see(0.0, 0.05);
         // Twice the cost, 1.8 times the time.
         assert_eq!(steps.see(2f32.ln(), 0.09), LoadStep::default());
+    }
+
+    #[test]
+    fn a_memory_of_a_load_is_kept_for_its_time_only() {
+        // A load of 20 ms on frames of 30 ms, lasting.
+        let mut memory = LoadMemory::new(0.5f32, 0.05, 0.02);
+        let kept = (0..1000)
+            .take_while(|_| memory.kept(0.05, LoadMemory::level_s))
+            .count();
+        assert!((79..=80).contains(&kept), "{kept} frames");
+    }
+
+    #[test]
+    fn a_memory_goes_when_the_next_frame_does_not_show_the_load() {
+        // One frame 40% over frames of 30 ms, then 31 ms: jitter.
+        let mut memory = LoadMemory::new(0.5f32, 0.042, 0.012);
+        assert!(!memory.kept(0.031, LoadMemory::level_s));
+        // The load stays, the knob lowered: 36 ms, above 30 ms by more
+        // than half a step.
+        let mut memory = LoadMemory::new(0.5f32, 0.042, 0.012);
+        assert!(memory.kept(0.036, LoadMemory::level_s));
+        // Where the knob's change is known to save a third, 30 ms shows
+        // the load.
+        let mut memory = LoadMemory::new(0.5f32, 0.042, 0.012);
+        assert!(memory.kept(0.030, |m| m.level_s() / 1.5));
     }
 
     #[test]

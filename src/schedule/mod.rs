@@ -42,7 +42,7 @@ mod cost;
 mod load_step;
 
 pub use cost::{CostModel, FLOOR_SLOPES};
-use load_step::{LoadSteps, SCALE_COST_EXPONENT};
+use load_step::{LoadMemory, LoadSteps, SCALE_COST_EXPONENT};
 
 /// Lowest accepted target frame rate, Hz (a frame period of 1 s).
 pub const MIN_TARGET_HZ: f32 = 1.0;
@@ -371,10 +371,10 @@ pub struct ReactiveScheduler {
     floor_s: Option<f32>,
     /// `s` before the spike that lowered it, until calm frames return it.
     before_spike: Option<f32>,
-    /// `s` before a load that lasts lowered it, and the time the load
-    /// added, s, until a frame shows the load gone (see
-    /// [`load_step::LOAD_STEP`]).
-    before_load: Option<(f32, f32)>,
+    /// `s` before the last load that lasts lowered it, until a frame
+    /// shows the load gone (see [`load_step::LOAD_STEP`]) or the memory
+    /// is too old ([`load_step::LOAD_MEMORY_S`]).
+    before_load: Option<LoadMemory<f32>>,
     /// The last two frames' `s` and times, to tell a step of load by.
     load_steps: LoadSteps,
     /// After a frame over the period lowered `s`: the `s` before that
@@ -502,15 +502,20 @@ impl ReactiveScheduler {
         let step = self
             .load_steps
             .see(SCALE_COST_EXPONENT * old.ln(), frame_time_s);
+        if self
+            .before_load
+            .as_mut()
+            .is_some_and(|m| !m.kept(frame_time_s, LoadMemory::level_s))
+        {
+            self.before_load = None;
+        }
         if self.before_load.is_none()
             && frame_time_s > st.target_frame_s
             && let Some(added_s) = step.rose_s
         {
-            self.before_load = Some((old, added_s));
+            self.before_load = Some(LoadMemory::new(old, frame_time_s, added_s));
         }
-        let load_gone = self
-            .before_load
-            .is_some_and(|(_, added_s)| step.ends_load(added_s));
+        let load_gone = self.before_load.is_some_and(|m| step.ends_load(m.added_s));
         if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
@@ -553,12 +558,12 @@ impl ReactiveScheduler {
             }
             self.scale = next.clamp(st.min_scale, 1.0).max(old.min(1.0));
         }
-        if load_gone && let Some((s0, _)) = self.before_load {
+        if load_gone && let Some(m) = self.before_load.take() {
             self.ceiling = None;
-            self.scale = self.scale.max(s0).min(1.0);
+            self.scale = self.scale.max(m.before).min(1.0);
         }
         // Climbed back by the raise rule: nothing left to return to.
-        if self.scale > old && self.before_load.is_some_and(|(s0, _)| self.scale >= s0) {
+        if self.scale > old && self.before_load.is_some_and(|m| self.scale >= m.before) {
             self.before_load = None;
         }
         if self.scale >= old {
@@ -641,9 +646,11 @@ pub struct PredictiveScheduler {
     /// The last announced load and the budget it left, held while the
     /// announcements stay within 10% of it and the frames on time.
     announced_budget: Option<(f32, u64)>,
-    /// The budget before a load that lasts lowered it, and the time the
-    /// load added, s, until a frame shows the load gone ([`load_step::LOAD_STEP`]).
-    before_load: Option<(u64, f32)>,
+    /// The budget and the cost model before the last load that lasts
+    /// lowered it, until a frame shows the load gone
+    /// ([`load_step::LOAD_STEP`]) or the memory is too old
+    /// ([`load_step::LOAD_MEMORY_S`]).
+    before_load: Option<LoadMemory<(u64, CostModel)>>,
     /// The last two frames' triangles and times (their announced load
     /// taken out), to tell a step of load by.
     load_steps: LoadSteps,
@@ -754,15 +761,32 @@ impl PredictiveScheduler {
         let step = self.load_steps.see((triangles as f32).ln(), frame_time_s);
         let over = frame_time_s > st.target_frame_s;
         let rose = over && step.rose_s.is_some();
+        // The frame after a load's first is drawn with the budget that
+        // frame cut: the cost model from before the load says what it
+        // should take.
+        if self.before_load.as_mut().is_some_and(|m| {
+            !m.kept(frame_time_s, |m| {
+                m.before.1.frame_s(triangles).min(m.level_s())
+            })
+        }) {
+            self.before_load = None;
+        }
+        // Remembered with the cost model from before it learned the load.
         if self.before_load.is_none()
             && over
             && let Some((held, added_s)) = self.held.zip(step.rose_s)
         {
-            self.before_load = Some((held, added_s));
+            self.before_load = Some(LoadMemory::new((held, self.cost), frame_time_s, added_s));
         }
         let load_gone = self
             .before_load
-            .is_some_and(|(_, added_s)| step.ends_load(added_s));
+            .as_ref()
+            .is_some_and(|m| step.ends_load(m.added_s));
+        // The load has gone: what the cost model learned of it goes too,
+        // or its reading of the load would cut the budget it returns to.
+        if load_gone && let Some(m) = &self.before_load {
+            self.cost = m.before.1;
+        }
         // A frame clearly over the period (by more than the dead band,
         // beyond the jitter), or over it by a step of load, is news of more
         // load: learn it at once (a budget shrunk in proportion never
@@ -816,15 +840,22 @@ impl PredictiveScheduler {
             self.held = Some(raised);
             self.stats.moved();
             // Climbed back by the raise rule: nothing left to return to.
-            if self.before_load.is_some_and(|(b0, _)| raised >= b0) {
+            if self
+                .before_load
+                .as_ref()
+                .is_some_and(|m| raised >= m.before.0)
+            {
                 self.before_load = None;
             }
         } else if unreachable {
             self.stats.moved();
         }
-        // The load has gone: back to the budget from before it at once.
-        if load_gone && let Some((b0, _)) = self.before_load.take() {
+        // The load has gone: back at once to the budget from before it, or
+        // to what the cost model from before it says fits now if less (the
+        // view may have grown dearer while the load lasted).
+        if load_gone && let Some(m) = self.before_load.take() {
             self.ceiling = None;
+            let b0 = m.before.0.min(fresh);
             if self.held.is_some_and(|h| h < b0) {
                 self.last_raised = true;
                 self.held = Some(b0);
