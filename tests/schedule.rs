@@ -336,6 +336,31 @@ fn after_a_lasting_load_spike_the_reactive_controller_is_back_within_a_few_frame
     }
 }
 
+/// The predictive scheduler at 90 Hz on `plant`, calibrated on its
+/// frames of `fixed_s` (s) plus the triangles.
+fn predictive_at_90_hz(plant: &Plant, fixed_s: f32) -> PredictiveScheduler {
+    PredictiveScheduler::new(
+        ReactiveSettings::for_rate_hz(90.0).unwrap(),
+        CostModel::new(fixed_s, plant.seconds_per_triangle),
+    )
+}
+
+/// One frame of `plant` under the predictive scheduler's budget: `fixed_s`
+/// plus the triangles at `load` times their cost, plus `extra_s` (s).
+/// Returns the triangles and the frame time.
+fn predictive_frame(
+    plant: &Plant,
+    sched: &mut PredictiveScheduler,
+    fixed_s: f32,
+    load: f32,
+    extra_s: f32,
+) -> (f32, f32) {
+    let (_, triangles) = plant.fit_budget(sched.triangle_budget());
+    let t = fixed_s + load * triangles * plant.seconds_per_triangle + extra_s;
+    sched.observe(t, triangles as u64, plant.coarsest_triangles());
+    (triangles, t)
+}
+
 #[test]
 fn after_a_lasting_load_spike_the_predictive_budget_is_back_within_a_few_frames() {
     // As for the reactive controller: 20 frames with half the period
@@ -347,16 +372,10 @@ fn after_a_lasting_load_spike_the_predictive_budget_is_back_within_a_few_frames(
     let fixed_s = 1e-3;
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = PredictiveScheduler::new(
-            ReactiveSettings::for_rate_hz(90.0).unwrap(),
-            CostModel::new(fixed_s, plant.seconds_per_triangle),
-        );
+        let mut sched = predictive_at_90_hz(&plant, fixed_s);
         let load = 1.5;
-        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> (f32, f32) {
-            let (_, triangles) = plant.fit_budget(sched.triangle_budget());
-            let t = fixed_s + load * triangles * plant.seconds_per_triangle + extra_s;
-            sched.observe(t, triangles as u64, plant.coarsest_triangles());
-            (triangles, t)
+        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| {
+            predictive_frame(&plant, sched, fixed_s, load, extra_s)
         };
         for _ in 0..300 {
             frame(&mut sched, 0.0);
@@ -396,15 +415,9 @@ fn after_a_lasting_load_the_budget_is_not_cut_for_what_the_load_taught() {
     let fixed_s = 1e-3;
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = PredictiveScheduler::new(
-            ReactiveSettings::for_rate_hz(90.0).unwrap(),
-            CostModel::new(fixed_s, plant.seconds_per_triangle),
-        );
-        let frame = |sched: &mut PredictiveScheduler, load: f32, extra_s: f32| -> f32 {
-            let (_, triangles) = plant.fit_budget(sched.triangle_budget());
-            let t = fixed_s + load * triangles * plant.seconds_per_triangle + extra_s;
-            sched.observe(t, triangles as u64, plant.coarsest_triangles());
-            triangles
+        let mut sched = predictive_at_90_hz(&plant, fixed_s);
+        let frame = |sched: &mut PredictiveScheduler, load: f32, extra_s: f32| {
+            predictive_frame(&plant, sched, fixed_s, load, extra_s).0
         };
         for _ in 0..300 {
             frame(&mut sched, 1.5, 0.0);
@@ -461,10 +474,7 @@ fn a_jittered_frame_leaves_no_memory_of_a_load() {
     for seed in 0..20 {
         let plant = Plant::new(seed);
         let mut reactive = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
-        let mut predictive = PredictiveScheduler::new(
-            ReactiveSettings::for_rate_hz(90.0).unwrap(),
-            CostModel::new(fixed_s, plant.seconds_per_triangle),
-        );
+        let mut predictive = predictive_at_90_hz(&plant, fixed_s);
         let (mut before, mut most, mut late) = ([0.0f32; 2], [0.0f32; 2], [0usize; 2]);
         for k in 0.. {
             let Some((load, jitter, extra_s)) = jitter_then_load(k, period) else {
