@@ -116,7 +116,8 @@ impl CostModel {
                 self.slopes = self.slopes.saturating_add(1);
             }
         }
-        let signed = frame_time_s - self.fixed_s - self.local_per_triangle_s * n1;
+        // Finite however large the local cost has grown (a frame of 1e38 s).
+        let signed = (frame_time_s - self.fixed_s - self.local_per_triangle_s * n1).max(-f32::MAX);
         // A load of half the frame or more shows at once (a spike's first
         // frame already counts); otherwise the load moves half-way.
         let unexplained = signed.max(0.0);
@@ -124,12 +125,12 @@ impl CostModel {
         self.extra_load_s = if at_once {
             unexplained
         } else {
-            0.5 * (self.extra_load_s + unexplained)
+            0.5 * self.extra_load_s + 0.5 * unexplained
         };
         self.floor_load_s = if at_once {
             signed
         } else {
-            0.5 * (self.floor_load_s + signed)
+            0.5 * self.floor_load_s + 0.5 * signed
         };
         self.last_frame = (frame_time_s, triangles);
         if triangles == 0 {
@@ -171,12 +172,12 @@ impl CostModel {
     /// floor even where their per-triangle cost times the triangles
     /// overflows.
     pub fn floor_s(&self, coarsest_triangles: u64) -> Option<f32> {
-        (self.slopes >= FLOOR_SLOPES).then_some(
-            (self.fixed_s
-                + self.floor_load_s
-                + self.local_per_triangle_s * coarsest_triangles as f32)
-                .clamp(0.0, f32::MAX),
-        )
+        (self.slopes >= FLOOR_SLOPES).then(|| {
+            let floor_s = f64::from(self.fixed_s)
+                + f64::from(self.floor_load_s)
+                + f64::from(self.local_per_triangle_s) * coarsest_triangles as f64;
+            floor_s.clamp(0.0, f64::from(f32::MAX)) as f32
+        })
     }
 
     /// The most triangles that fit in `target_frame_s` seconds, by the
