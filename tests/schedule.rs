@@ -778,6 +778,27 @@ fn a_frame_near_the_largest_finite_time_leaves_the_floor_finite() {
     assert!(floor.is_finite() && floor > 1.0, "floor {floor} s");
 }
 
+/// Another: a frame of 7.4e37 s drives the local per-triangle cost to
+/// 1e33 s; the next frame's load less its triangles at that cost was
+/// -inf, and the floor (-inf plus the coarsest triangles' +inf) NaN.
+#[test]
+fn a_local_cost_grown_past_the_frames_leaves_the_floor_a_number() {
+    let mut cost = CostModel::first_guess();
+    for (frame_s, triangles) in [
+        (0.046_971_317, 1),
+        (7.377_171e37, 4_247),
+        (0.017_089_326, 1),
+        (0.085_408_38, 306_092),
+    ] {
+        cost.observe(frame_s, triangles);
+    }
+    let floor = cost.floor_s(306_092).expect("three slopes measured");
+    assert!(
+        (0.0..=f32::MAX).contains(&floor),
+        "floor {floor} s: {cost:?}"
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
 

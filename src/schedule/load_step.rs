@@ -9,15 +9,18 @@
 //! frame alone, one jittered frame within the load followed by an ordinary
 //! one looked like the load's end: the knob went back up in the middle of
 //! the load, and the late frames that followed drove it far lower than the
-//! load needed. A step is a step from a level, so it must hold against
-//! both of the last two frames.
+//! load needed. A step is a step from a level, so a fall must hold
+//! against both of the last two frames. A rise must be a step from one of
+//! them and half a step from the other: a load whose first frame follows
+//! a frame heavier by jitter rises by less than a step from that frame.
 
 use super::VARIATION_CLIP;
 
-/// A frame whose time rose by more than this, in log terms, from each of
-/// the last two frames, beyond what its change of cost explains, shows a
-/// new load; a fall by as much shows it gone. The largest change of frame
-/// time the learned variation takes for jitter ([`VARIATION_CLIP`]).
+/// A frame whose time rose by more than this, in log terms, from one of
+/// the last two frames and by half as much from the other, beyond what its
+/// change of cost explains, shows a new load; a fall by as much below each
+/// shows it gone. The largest change of frame time the learned variation
+/// takes for jitter ([`VARIATION_CLIP`]).
 pub(super) const LOAD_STEP: f32 = VARIATION_CLIP;
 
 /// The largest exponent of `s` a frame's cost is taken to follow when a
@@ -64,11 +67,20 @@ impl<K> LoadMemory<K> {
     /// `expected_s` is that frame's time as the frames before the load
     /// would have had it (s): the level before the load, or less where the
     /// scheduler knows what its knob's change saves.
+    /// That frame also gives the load's size, if smaller than its first
+    /// frame's: the first may have been heavier by jitter, and a load
+    /// taken for larger than it is would not be seen to end.
     pub fn kept(&mut self, frame_time_s: f32, expected_s: impl FnOnce(&Self) -> f32) -> bool {
         let first = self.age_s == 0.0;
         self.age_s += frame_time_s;
-        let loaded = !first || frame_time_s > expected_s(self) * (0.5 * LOAD_STEP).exp();
-        loaded && self.age_s <= LOAD_MEMORY_S
+        if first {
+            let expected_s = expected_s(self);
+            if frame_time_s <= expected_s * (0.5 * LOAD_STEP).exp() {
+                return false;
+            }
+            self.added_s = self.added_s.min(frame_time_s - expected_s);
+        }
+        self.age_s <= LOAD_MEMORY_S
     }
 
     /// The frame time before the load, s.
@@ -89,9 +101,13 @@ pub(super) struct LoadSteps {
 /// A frame's step of load against the last two frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct LoadStep {
-    /// The frame rose by a step of load: the smaller of its rises over
-    /// the two frames, s.
+    /// The frame rose by a step of load (a step from one of the two
+    /// frames, half a step from the other): the smaller of its rises over
+    /// them, s.
     pub rose_s: Option<f32>,
+    /// The frame rose by a step from each of the two frames: clear news of
+    /// more load, which may be learned at once.
+    pub rose_from_both: bool,
     /// The frame fell by a step of load: the smaller of its falls below
     /// the two frames, s.
     pub fell_s: Option<f32>,
@@ -121,24 +137,40 @@ impl LoadSteps {
     pub fn see(&mut self, log_cost: f32, frame_time_s: f32) -> LoadStep {
         let mut step = LoadStep {
             rose_s: Some(f32::INFINITY),
+            rose_from_both: true,
             fell_s: Some(f32::INFINITY),
         };
+        // The rise beyond what the cost explains, the larger over the two
+        // frames, in log terms.
+        let mut most_rise = f32::NEG_INFINITY;
         for (last_log_cost, last_s) in self.last {
             let by_cost = log_cost - last_log_cost;
             let log_step = (frame_time_s / last_s).ln();
             if !(by_cost.is_finite() && log_step.is_finite()) {
-                step = LoadStep::default();
-                break;
+                return self.remember(log_cost, frame_time_s, LoadStep::default());
             }
+            let rise = log_step - by_cost.max(0.0);
+            most_rise = most_rise.max(rise);
+            step.rose_from_both &= rise > LOAD_STEP;
             step.rose_s = step
                 .rose_s
-                .filter(|_| log_step > LOAD_STEP + by_cost.max(0.0))
+                .filter(|_| rise > 0.5 * LOAD_STEP)
                 .map(|r| r.min(frame_time_s - last_s));
             step.fell_s = step
                 .fell_s
                 .filter(|_| log_step < -LOAD_STEP + by_cost.min(0.0))
                 .map(|f| f.min(last_s - frame_time_s));
         }
+        // A load whose first frame follows one heavier by jitter rises by a
+        // step from the other frame and by half a step from that one.
+        if most_rise <= LOAD_STEP {
+            step.rose_s = None;
+        }
+        step.rose_from_both &= step.rose_s.is_some();
+        self.remember(log_cost, frame_time_s, step)
+    }
+
+    fn remember(&mut self, log_cost: f32, frame_time_s: f32, step: LoadStep) -> LoadStep {
         self.last = [(log_cost, frame_time_s), self.last[0]];
         step
     }
@@ -159,6 +191,18 @@ mod tests {
         assert_eq!(steps[2].rose_s.map(|r| (r * 1e3).round()), Some(40.0));
         assert_eq!(steps[4].fell_s.map(|f| (f * 1e3).round()), Some(40.0));
         assert!(steps[3].rose_s.is_none() && steps[3].fell_s.is_none());
+    }
+
+    #[test]
+    fn a_load_after_a_frame_heavier_by_jitter_is_a_load() {
+        // 50 ms, 56 ms (jitter), then 70 ms: a step from 50 ms, half a
+        // step from 56 ms.
+        let steps = frames(&[0.05, 0.056, 0.07]);
+        assert_eq!(steps[2].rose_s.map(|r| (r * 1e3).round()), Some(14.0));
+        // Half a step from each is no load.
+        assert!(frames(&[0.05, 0.05, 0.058])[2].rose_s.is_none());
+        // Nor a step from a frame lighter by jitter alone.
+        assert!(frames(&[0.05, 0.04, 0.052])[2].rose_s.is_none());
     }
 
     #[test]
@@ -197,6 +241,8 @@ mod tests {
         // than half a step.
         let mut memory = LoadMemory::new(0.5f32, 0.042, 0.012);
         assert!(memory.kept(0.036, LoadMemory::level_s));
+        // The load's size, from that frame: 6 ms, not the first's 12 ms.
+        assert!((memory.added_s - 0.006).abs() < 1e-6, "{}", memory.added_s);
         // Where the knob's change is known to save a third, 30 ms shows
         // the load.
         let mut memory = LoadMemory::new(0.5f32, 0.042, 0.012);

@@ -760,7 +760,7 @@ impl PredictiveScheduler {
         // explain (a cost at most proportional to them) is a change of load.
         let step = self.load_steps.see((triangles as f32).ln(), frame_time_s);
         let over = frame_time_s > st.target_frame_s;
-        let rose = over && step.rose_s.is_some();
+        let rose = over && step.rose_from_both;
         // The frame after a load's first is drawn with the budget that
         // frame cut: the cost model from before the load says what it
         // should take.
