@@ -102,8 +102,8 @@ pub(super) struct LoadSteps {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct LoadStep {
     /// The frame rose by a step of load (a step from one of the two
-    /// frames, half a step from the other): the smaller of its rises over
-    /// them, s.
+    /// frames, half a step from the other): its rise from the lower of
+    /// them, the level before the load, s.
     pub rose_s: Option<f32>,
     /// The frame rose by a step from each of the two frames: clear news of
     /// more load, which may be learned at once.
@@ -136,7 +136,7 @@ impl LoadSteps {
     /// finite (no triangles) judges no step.
     pub fn see(&mut self, log_cost: f32, frame_time_s: f32) -> LoadStep {
         let mut step = LoadStep {
-            rose_s: Some(f32::INFINITY),
+            rose_s: Some(f32::NEG_INFINITY),
             rose_from_both: true,
             fell_s: Some(f32::INFINITY),
         };
@@ -155,7 +155,7 @@ impl LoadSteps {
             step.rose_s = step
                 .rose_s
                 .filter(|_| rise > 0.5 * LOAD_STEP)
-                .map(|r| r.min(frame_time_s - last_s));
+                .map(|r| r.max(frame_time_s - last_s));
             step.fell_s = step
                 .fell_s
                 .filter(|_| log_step < -LOAD_STEP + by_cost.min(0.0))
@@ -198,7 +198,7 @@ mod tests {
         // 50 ms, 56 ms (jitter), then 70 ms: a step from 50 ms, half a
         // step from 56 ms.
         let steps = frames(&[0.05, 0.056, 0.07]);
-        assert_eq!(steps[2].rose_s.map(|r| (r * 1e3).round()), Some(14.0));
+        assert_eq!(steps[2].rose_s.map(|r| (r * 1e3).round()), Some(20.0));
         // Half a step from each is no load.
         assert!(frames(&[0.05, 0.05, 0.058])[2].rose_s.is_none());
         // Nor a step from a frame lighter by jitter alone.
