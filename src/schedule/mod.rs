@@ -795,7 +795,21 @@ impl PredictiveScheduler {
         if rose || frame_time_s > (1.0 + band) * st.target_frame_s {
             self.cost.learning_rate = rate.max(MISS_LEARNING_RATE);
         }
+        // A frame drawn under a told load's smaller budget says little of
+        // what the held budget's triangles cost: at a few triangles its
+        // proportional reading is the fixed time's error (a fixed time
+        // calibrated too high reads them as nearly free), so it moves
+        // neither the per-triangle cost nor, below, the held budget.
+        let told_binds = announced_s > 0.0
+            && self
+                .announced_budget
+                .zip(self.held)
+                .is_some_and(|((_, told), held)| told < held);
+        let per_triangle_s = self.cost.per_triangle_s;
         self.cost.observe(frame_time_s, triangles);
+        if told_binds {
+            self.cost.per_triangle_s = per_triangle_s;
+        }
         self.cost.learning_rate = rate;
         self.floor_s = self
             .cost
@@ -824,7 +838,8 @@ impl PredictiveScheduler {
         // budget whose raise overloaded the frame.
         let cap = self.ceiling.map_or(u64::MAX, |c| (0.97 * c as f64) as u64);
         let raised = fresh.min(cap);
-        let raise = self.stats.frames >= st.settle_frames
+        let raise = !told_binds
+            && self.stats.frames >= st.settle_frames
             && self.stats.calm >= st.settle_frames
             && raised as f64 > held as f64 * (1.0 + 0.5 * f64::from(band));
         if lower && !unreachable {
