@@ -963,7 +963,7 @@ fn a_told_load_leaves_the_budget_as_it_found_it() {
             ReactiveSettings::for_rate_hz(90.0).unwrap(),
             CostModel::new(4e-3, plant.seconds_per_triangle),
         );
-        let mut frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> (f32, f32) {
+        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> (f32, f32) {
             sched.announce_load(extra_s);
             let (_, triangles) = plant.fit_budget(sched.triangle_budget());
             let t = fixed_s + 1.5 * triangles * plant.seconds_per_triangle + extra_s;
