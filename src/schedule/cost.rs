@@ -95,6 +95,13 @@ impl CostModel {
     /// frame (time in s and the triangles it drew). Invalid measurements
     /// change nothing.
     pub fn observe(&mut self, frame_time_s: f32, triangles: u64) {
+        self.observe_frame(frame_time_s, triangles, true);
+    }
+
+    /// As [`observe`](Self::observe); with `per_triangle` false the frame
+    /// leaves the learned per-triangle cost as it is (a frame whose
+    /// triangles say little of it) and teaches the rest.
+    pub(super) fn observe_frame(&mut self, frame_time_s: f32, triangles: u64, per_triangle: bool) {
         if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
             return;
         }
@@ -133,7 +140,7 @@ impl CostModel {
             0.5 * self.floor_load_s + 0.5 * signed
         };
         self.last_frame = (frame_time_s, triangles);
-        if triangles == 0 {
+        if triangles == 0 || !per_triangle {
             return;
         }
         let measured = ((frame_time_s - self.fixed_s).max(0.0) / triangles as f32).max(1e-15);

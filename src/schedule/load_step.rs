@@ -49,7 +49,7 @@ pub(super) struct LoadMemory<K> {
 impl<K> LoadMemory<K> {
     /// A load that added `added_s` (s) came with a frame of
     /// `frame_time_s` (s); the scheduler had `before`.
-    pub fn new(before: K, frame_time_s: f32, added_s: f32) -> Self {
+    fn new(before: K, frame_time_s: f32, added_s: f32) -> Self {
         Self {
             before,
             added_s,
@@ -70,7 +70,7 @@ impl<K> LoadMemory<K> {
     /// That frame also gives the load's size, if smaller than its first
     /// frame's: the first may have been heavier by jitter, and a load
     /// taken for larger than it is would not be seen to end.
-    pub fn kept(&mut self, frame_time_s: f32, expected_s: impl FnOnce(&Self) -> f32) -> bool {
+    fn kept(&mut self, frame_time_s: f32, expected_s: impl FnOnce(&Self) -> f32) -> bool {
         let first = self.age_s == 0.0;
         self.age_s += frame_time_s;
         if first {
@@ -86,6 +86,36 @@ impl<K> LoadMemory<K> {
     /// The frame time before the load, s.
     pub fn level_s(&self) -> f32 {
         self.level_s
+    }
+
+    /// The memory a scheduler keeps (`slot`) through one more frame of
+    /// `frame_time_s` (s) and its `step`: a memory from before is kept or
+    /// dropped ([`Self::kept`], with `expected_s`); where none is left and
+    /// the frame, over the period (`over`), rose by a step of load, the
+    /// scheduler's knob (`knob`; none, nothing to remember) is remembered.
+    /// Returns whether the frame ends the load remembered
+    /// ([`LoadStep::ends_load`]).
+    pub fn follow(
+        slot: &mut Option<Self>,
+        frame_time_s: f32,
+        over: bool,
+        step: &LoadStep,
+        expected_s: impl FnOnce(&Self) -> f32,
+        knob: impl FnOnce() -> Option<K>,
+    ) -> bool {
+        if slot
+            .as_mut()
+            .is_some_and(|m| !m.kept(frame_time_s, expected_s))
+        {
+            *slot = None;
+        }
+        if slot.is_none()
+            && over
+            && let Some((before, added_s)) = step.rose_s.and_then(|r| knob().map(|k| (k, r)))
+        {
+            *slot = Some(Self::new(before, frame_time_s, added_s));
+        }
+        slot.as_ref().is_some_and(|m| step.ends_load(m.added_s))
     }
 }
 

@@ -502,20 +502,14 @@ impl ReactiveScheduler {
         let step = self
             .load_steps
             .see(SCALE_COST_EXPONENT * old.ln(), frame_time_s);
-        if self
-            .before_load
-            .as_mut()
-            .is_some_and(|m| !m.kept(frame_time_s, LoadMemory::level_s))
-        {
-            self.before_load = None;
-        }
-        if self.before_load.is_none()
-            && frame_time_s > st.target_frame_s
-            && let Some(added_s) = step.rose_s
-        {
-            self.before_load = Some(LoadMemory::new(old, frame_time_s, added_s));
-        }
-        let load_gone = self.before_load.is_some_and(|m| step.ends_load(m.added_s));
+        let load_gone = LoadMemory::follow(
+            &mut self.before_load,
+            frame_time_s,
+            frame_time_s > st.target_frame_s,
+            &step,
+            LoadMemory::level_s,
+            || Some(old),
+        );
         if (missed || self.stats.busy >= st.settle_frames) && !unreachable {
             let measured = if missed {
                 frame_time_s
@@ -763,25 +757,17 @@ impl PredictiveScheduler {
         let rose = over && step.rose_from_both;
         // The frame after a load's first is drawn with the budget that
         // frame cut: the cost model from before the load says what it
-        // should take.
-        if self.before_load.as_mut().is_some_and(|m| {
-            !m.kept(frame_time_s, |m| {
-                m.before.1.frame_s(triangles).min(m.level_s())
-            })
-        }) {
-            self.before_load = None;
-        }
-        // Remembered with the cost model from before it learned the load.
-        if self.before_load.is_none()
-            && over
-            && let Some((held, added_s)) = self.held.zip(step.rose_s)
-        {
-            self.before_load = Some(LoadMemory::new((held, self.cost), frame_time_s, added_s));
-        }
-        let load_gone = self
-            .before_load
-            .as_ref()
-            .is_some_and(|m| step.ends_load(m.added_s));
+        // should take. A load is remembered with the cost model from
+        // before it learned the load.
+        let (held, cost) = (self.held, self.cost);
+        let load_gone = LoadMemory::follow(
+            &mut self.before_load,
+            frame_time_s,
+            over,
+            &step,
+            |m| m.before.1.frame_s(triangles).min(m.level_s()),
+            || held.map(|h| (h, cost)),
+        );
         // The load has gone: what the cost model learned of it goes too,
         // or its reading of the load would cut the budget it returns to.
         if load_gone && let Some(m) = &self.before_load {
@@ -805,11 +791,8 @@ impl PredictiveScheduler {
                 .announced_budget
                 .zip(self.held)
                 .is_some_and(|((_, told), held)| told < held);
-        let per_triangle_s = self.cost.per_triangle_s;
-        self.cost.observe(frame_time_s, triangles);
-        if told_binds {
-            self.cost.per_triangle_s = per_triangle_s;
-        }
+        self.cost
+            .observe_frame(frame_time_s, triangles, !told_binds);
         self.cost.learning_rate = rate;
         self.floor_s = self
             .cost
