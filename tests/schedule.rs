@@ -959,16 +959,11 @@ fn a_told_load_leaves_the_budget_as_it_found_it() {
     let fixed_s = 1e-3;
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = PredictiveScheduler::new(
-            ReactiveSettings::for_rate_hz(90.0).unwrap(),
-            CostModel::new(4e-3, plant.seconds_per_triangle),
-        );
-        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| -> (f32, f32) {
+        // Calibrated at 4 ms of fixed time.
+        let mut sched = predictive_at_90_hz(&plant, 4e-3);
+        let frame = |sched: &mut PredictiveScheduler, extra_s: f32| {
             sched.announce_load(extra_s);
-            let (_, triangles) = plant.fit_budget(sched.triangle_budget());
-            let t = fixed_s + 1.5 * triangles * plant.seconds_per_triangle + extra_s;
-            sched.observe(t, triangles as u64, plant.coarsest_triangles());
-            (triangles, t)
+            predictive_frame(&plant, sched, fixed_s, 1.5, extra_s)
         };
         let mut before = 0.0;
         for _ in 0..300 {
