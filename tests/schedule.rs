@@ -1028,3 +1028,43 @@ fn coming_down_from_an_overload_where_the_cost_is_flat_in_s_takes_few_late_frame
     }
     assert!(worst >= 2, "{worst}: the plant starts within the period");
 }
+
+#[test]
+fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_a_late_frame() {
+    // The overloaded plant of the test above (2.4x to 3.7x the period at
+    // s = 1), frames varying by 5%: started at its lowest `s`, the
+    // controller draws no frame over the period on its way up and raises
+    // `s` after every frame below its dead band: within a quarter of its
+    // aim by frame 10 on every seed (raising after three frames each, by
+    // frame 30).
+    let target = 1.0 / 90.0;
+    let mut slowest = 0;
+    for seed in 0..20 {
+        let mut plant = Plant::new(seed);
+        for b in &mut plant.breakpoints {
+            *b = b.map(|x| 0.15 * x);
+        }
+        plant.seconds_per_triangle = 0.8 / 90.0 / plant.triangles(1.0);
+        let load = 3.0 + (seed % 3) as f32 * 0.8;
+        let settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
+        let mut sched = ReactiveScheduler::new(settings).starting_at(settings.min_scale);
+        assert_eq!(sched.scale(), settings.min_scale);
+        let mut rng = Rng::new(seed ^ 0xc11b);
+        let mut frame = 0;
+        loop {
+            let t = plant.frame_time(sched.scale(), load) * noise(&mut rng, 0.05);
+            assert!(t <= target, "seed {seed}: frame {frame} took {t} s");
+            if t >= 0.75 * sched.aim_s() {
+                break;
+            }
+            sched.update(t);
+            frame += 1;
+            assert!(frame < 300, "seed {seed}: never climbed");
+        }
+        slowest = slowest.max(frame);
+    }
+    assert!(
+        slowest <= 15,
+        "within a quarter of the aim at frame {slowest}"
+    );
+}

@@ -117,6 +117,10 @@ pub struct FrameRecord {
     pub aim_ms: Option<f64>,
     /// Whether the frame fell in a load spike ([`PlaySettings::load_spikes`]).
     pub in_spike: bool,
+    /// Whether the policy's knob was at its end ([`crate::policy::Choice::at_limit`]):
+    /// a late frame there ran over on the floor of what the policy may
+    /// draw.
+    pub at_limit: bool,
     /// The selection's visibility in best effort's measure, deg
     /// ([`crate::policy::Choice::visibility_deg`]).
     pub visibility_deg: Option<f64>,
@@ -406,6 +410,7 @@ impl<'w> Player<'w> {
                     cost_floor_ms: runner.cost_floor_s().map(|f| f * 1e3),
                     aim_ms: runner.aim_s().map(|a| a * 1e3),
                     in_spike: spike.is_some(),
+                    at_limit: choice.at_limit,
                     visibility_deg: choice.visibility_deg,
                     flip_mean: None,
                     flip_p95: None,

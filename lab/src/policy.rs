@@ -91,6 +91,22 @@ pub struct Choice {
     /// (`Selector::selection_visibility_deg`), where the selector recorded
     /// thresholds; `None` for screen size and full detail.
     pub visibility_deg: Option<f64>,
+    /// Whether the knob was at its end: the scheduler's `s` at its lowest,
+    /// or the triangle budget not met with every step down the selection
+    /// may take (to the lowest `s` it may use,
+    /// [`SelectorSettings::min_scale`]). A late frame there ran over on
+    /// the floor of what the policy may draw; `false` without a scheduler.
+    pub at_limit: bool,
+}
+
+/// The scheduled reactive policies' controller: with a cost model for the
+/// cost floor, and started at its lowest `s` to climb (a headset would
+/// rather show its first frames coarse than late;
+/// [`ReactiveScheduler::starting_at`]).
+fn climbing_reactive(settings: ReactiveSettings, cost: CostModel) -> ReactiveScheduler {
+    ReactiveScheduler::new(settings)
+        .with_cost_model(cost)
+        .starting_at(settings.min_scale)
 }
 
 /// A policy's fixed-frame-rate controller.
@@ -244,9 +260,9 @@ impl PolicyRunner {
             Policy::AcuityReactive
             | Policy::AcuityReactiveBudgeted
             | Policy::ScreenSizeReactive
-            | Policy::ScreenSizeReactivePeriod => Some(Scheduler::Reactive(
-                ReactiveScheduler::new(tuned()?).with_cost_model(cost),
-            )),
+            | Policy::ScreenSizeReactivePeriod => {
+                Some(Scheduler::Reactive(climbing_reactive(tuned()?, cost)))
+            }
             Policy::AcuityReactiveNoHeadroom => Some(Scheduler::Reactive(ReactiveScheduler::new(
                 tuned()?.without_headroom(),
             ))),
@@ -294,11 +310,9 @@ impl PolicyRunner {
                 };
                 let mut settings = *r.settings();
                 settings.target_frame_s *= factor as f32;
-                let mut retimed = ReactiveScheduler::new(settings);
                 if let Some(cost) = r.cost_model() {
-                    retimed = retimed.with_cost_model(*cost);
+                    self.scheduler = Some(Scheduler::Reactive(climbing_reactive(settings, *cost)));
                 }
-                self.scheduler = Some(Scheduler::Reactive(retimed));
             }
         } else if self.budget_share.is_some() {
             self.budget_share = Some(if knob > 0.0 { knob.min(1.0) } else { 1.0 });
@@ -343,10 +357,15 @@ impl PolicyRunner {
             dt_s,
             scale,
         };
+        let at_lowest_scale = match &self.scheduler {
+            Some(Scheduler::Reactive(r)) => r.scale() <= r.settings().min_scale,
+            _ => false,
+        };
         let mut choice = Choice {
             scale,
             triangle_budget: None,
             visibility_deg: None,
+            at_limit: at_lowest_scale,
         };
         let budget = match (&mut self.scheduler, self.budget_share) {
             (Some(Scheduler::Predictive(p)), _) => Some(p.triangle_budget()),
@@ -363,6 +382,7 @@ impl PolicyRunner {
                     scale: out.scale,
                     triangle_budget: Some(budget),
                     visibility_deg: None,
+                    at_limit: self.scheduler.is_some() && !out.within_budget,
                 };
             }
             None => self.selector.select(&frame)?,

@@ -253,14 +253,14 @@ pub fn write_frames_csv(runs: &[PolicyRun], path: &Path) -> anyhow::Result<()> {
 /// The per-frame CSV: one row per policy and frame.
 pub fn frames_csv(runs: &[PolicyRun]) -> String {
     let mut t = String::from(
-        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike,selection_visibility_deg,cost_floor_ms,aim_ms,lod_slow_reversals\n",
+        "policy,frame,t_s,frame_ms,select_ms,triangles,draw_calls,drawn,mean_lod,lod_switches,scale,triangle_budget,flip_mean,flip_p95,lod_reversals,target_unreachable,in_spike,selection_visibility_deg,cost_floor_ms,aim_ms,lod_slow_reversals,at_limit\n",
     );
     let o = |v: Option<String>| v.unwrap_or_default();
     for r in runs {
         for f in &r.frames {
             let _ = writeln!(
                 t,
-                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{:.6},{:.4},{:.4},{},{},{},{:.4},{},{:.5},{},{},{},{},{},{},{},{},{},{},{}",
                 r.policy.label(r.knob),
                 f.frame,
                 f.t_s,
@@ -282,6 +282,7 @@ pub fn frames_csv(runs: &[PolicyRun]) -> String {
                 o(f.cost_floor_ms.map(|v| format!("{v:.3}"))),
                 o(f.aim_ms.map(|v| format!("{v:.3}"))),
                 f.lod_slow_reversals,
+                u32::from(f.at_limit),
             );
         }
     }

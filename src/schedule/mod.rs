@@ -382,6 +382,10 @@ pub struct ReactiveScheduler {
     descent: Option<(f32, f32)>,
     /// The cost model [`Self::observe`] learns the cost floor from.
     cost: Option<CostModel>,
+    /// Started below `s = 1` ([`Self::starting_at`]) and every frame so
+    /// far below the dead band: `s` rises after each such frame, not after
+    /// [`ReactiveSettings::settle_frames`] of them.
+    climbing: bool,
 }
 
 impl ReactiveScheduler {
@@ -401,7 +405,28 @@ impl ReactiveScheduler {
             load_steps: LoadSteps::new(),
             descent: None,
             cost: None,
+            climbing: false,
         }
+    }
+
+    /// This controller starting at `scale` instead of 1 (clamped into
+    /// `[min_scale, 1]`; NaN is 1). A VR runtime that would rather show
+    /// its first frames coarse than late starts at
+    /// [`ReactiveSettings::min_scale`] and climbs to the target: from
+    /// `s = 1` the controller learns only from late frames how far it must
+    /// come down (4-5 frames from full detail on a scene that needs a
+    /// tenth of its triangles). Until the first frame that is not below
+    /// the dead band, `s` rises after every frame (by at most
+    /// [`ReactiveSettings::max_raise`]) instead of after
+    /// [`ReactiveSettings::settle_frames`] of them.
+    pub fn starting_at(mut self, scale: f32) -> Self {
+        self.scale = if scale.is_nan() {
+            1.0
+        } else {
+            scale.clamp(self.settings.min_scale, 1.0)
+        };
+        self.climbing = self.scale < 1.0;
+        self
     }
 
     /// This controller with a cost model (a starting guess or a
@@ -496,7 +521,9 @@ impl ReactiveScheduler {
         let missed =
             self.stats
                 .missed(frame_time_s, st.target_frame_s, st.band(self.stats.sigma()));
-        let settled = self.stats.frames >= st.settle_frames;
+        self.climbing &= self.stats.calm > 0;
+        let settle_frames = if self.climbing { 1 } else { st.settle_frames };
+        let settled = self.stats.frames >= settle_frames;
         // A step of the frame time that the change of `s` does not explain
         // is a change of load.
         let step = self
@@ -537,7 +564,7 @@ impl ReactiveScheduler {
             // At least a 2% step: a frame barely over its aim would otherwise
             // creep towards the next LOD step for hundreds of frames.
             self.scale = (old * ratio.powf(-gain).min(MIN_LOWER_FACTOR)).max(st.min_scale);
-        } else if settled && self.stats.calm >= st.settle_frames {
+        } else if settled && self.stats.calm >= settle_frames {
             let level = self.stats.level_s.max(frame_time_s);
             if level < st.clear_ratio * st.target_frame_s {
                 self.ceiling = None;

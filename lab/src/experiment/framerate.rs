@@ -292,6 +292,17 @@ pub struct HeldRate {
     /// Share of the frames within the spikes over the period although the
     /// scheduler found the target reachable; `None` as above.
     pub over_reachable_in_spikes: Option<f64>,
+    /// Share of the frames within the spikes over the period with the
+    /// knob at its end ([`crate::policy::Choice::at_limit`]): the floor of
+    /// what the policy may draw, the load included, ran over the period,
+    /// whatever the scheduler estimated.
+    pub over_in_spikes_at_limit: f64,
+    /// Share of the frames within the spikes over the period with the
+    /// knob short of its end and the target not reported out of reach,
+    /// less each spike's first frame where the policy is not told of the
+    /// load (a load nobody announced shows first in that frame's time):
+    /// the late frames within spikes the scheduler could have avoided.
+    pub over_in_spikes_with_room: f64,
     /// Share of the frames outside the spikes reported out of reach.
     pub unreachable_outside_spikes: Option<f64>,
     /// Of the frames outside the spikes after the start-up, the share
@@ -343,6 +354,16 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
         .map(|(r, s)| {
             let over = |f: &crate::player::FrameRecord| f.frame_ms * 1e-3 > budget_s;
             let (inside, outside): (Vec<_>, Vec<_>) = r.frames.iter().partition(|f| f.in_spike);
+            let told = r.policy == Policy::AcuityPredictiveAnnounced;
+            // A spike's first frame: the frame before it (in the run) was
+            // outside.
+            let first_of_spike = |f: &crate::player::FrameRecord| {
+                f.frame > 0
+                    && r.frames
+                        .iter()
+                        .find(|g| g.frame + 1 == f.frame)
+                        .is_some_and(|g| !g.in_spike)
+            };
             let sees_floor = r.frames.iter().any(|f| f.target_unreachable.is_some());
             let unreachable = |f: &crate::player::FrameRecord| f.target_unreachable == Some(true);
             let floor_above_aim = |f: &crate::player::FrameRecord| {
@@ -362,6 +383,10 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
                 unreachable_in_spikes: sees_floor.then(|| share(&inside, unreachable)),
                 over_reachable_in_spikes: sees_floor
                     .then(|| share(&inside, |f| over(f) && !unreachable(f))),
+                over_in_spikes_at_limit: share(&inside, |f| over(f) && f.at_limit),
+                over_in_spikes_with_room: share(&inside, |f| {
+                    over(f) && !f.at_limit && !unreachable(f) && (told || !first_of_spike(f))
+                }),
                 unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
                 floor_above_aim_settled: sees_floor.then(|| share(&settled, floor_above_aim)),
                 over_settled_with_room: sees_floor
@@ -382,20 +407,24 @@ fn pct(v: Option<f64>) -> String {
 }
 
 /// The schedulers' table: over% outside and within the spikes, within them
-/// out of reach and over while reachable, once settled the floor above the
+/// out of reach and over while reachable, over with the knob at its end
+/// (`in:lim%`) and short of it where reachable (`in:room%`, each spike's
+/// first frame not counted for a policy not told of the load), once settled the floor above the
 /// aim and the late frames with room, switches, reversals, triangles, `s`
 /// and JOD.
 pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
+        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
         "over% set",
         "over% in",
         "unreach%",
         "over%reach",
+        "in:lim%",
+        "in:room%",
         "unr%out",
         "flr>aim%",
         "over%room",
@@ -409,13 +438,15 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
+            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
             r.policy.label(r.knob),
             pct(Some(r.over_outside_spikes)),
             pct(Some(r.over_settled)),
             pct(Some(r.over_in_spikes)),
             pct(r.unreachable_in_spikes),
             pct(r.over_reachable_in_spikes),
+            pct(Some(r.over_in_spikes_at_limit)),
+            pct(Some(r.over_in_spikes_with_room)),
             pct(r.unreachable_outside_spikes),
             pct(r.floor_above_aim_settled),
             pct(r.over_settled_with_room),
@@ -433,13 +464,13 @@ pub fn held_table(rows: &[HeldRate]) -> String {
 /// The schedulers' table as CSV (shares as fractions).
 pub fn held_csv(rows: &[HeldRate]) -> String {
     let mut t = String::from(
-        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s\n",
+        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for r in rows {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3}",
+            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4}",
             r.policy.label(r.knob),
             r.over_outside_spikes,
             r.over_settled,
@@ -455,6 +486,8 @@ pub fn held_csv(rows: &[HeldRate]) -> String {
             r.mean_scale,
             o(r.jod),
             r.slow_reversals_per_s,
+            r.over_in_spikes_at_limit,
+            r.over_in_spikes_with_room,
         );
     }
     t
@@ -492,6 +525,7 @@ mod tests {
             cost_floor_ms: Some(floor_ms),
             aim_ms: Some(90.0),
             in_spike,
+            at_limit: false,
             visibility_deg: None,
             flip_mean: None,
             flip_p95: None,
@@ -549,5 +583,37 @@ mod tests {
         assert_eq!(held.floor_above_aim_settled, Some(3.0 / 5.0));
         assert_eq!(held.over_settled_with_room, Some(1.0 / 5.0));
         assert_eq!(held.unreachable_outside_spikes, Some(0.0));
+    }
+
+    #[test]
+    fn late_frames_in_a_spike_are_told_apart_by_the_knob_and_the_spike_start() {
+        // A 100 ms period; a spike of five frames: its first late with
+        // the knob short of its end (a blind controller could not know),
+        // the second the same (the controller's own), the third late with
+        // the knob at its end (the policy's floor), the fourth late with
+        // the target reported out of reach, the fifth on time.
+        let mut frames = vec![
+            frame(0.9, 90.0, false),
+            frame(1.0, 150.0, true),
+            frame(1.1, 120.0, true),
+            frame(1.2, 110.0, true),
+            floored(1.3, 130.0, true, 120.0),
+            frame(1.4, 95.0, true),
+            frame(1.5, 90.0, false),
+        ];
+        frames[3].at_limit = true;
+        let held = held_at_100_ms(frames.clone());
+        assert_eq!(held.over_in_spikes, 4.0 / 5.0);
+        assert_eq!(held.over_in_spikes_at_limit, 1.0 / 5.0);
+        assert_eq!(held.over_in_spikes_with_room, 1.0 / 5.0);
+        // Told of the load, the first frame counts too.
+        let runs = [PolicyRun {
+            policy: Policy::AcuityPredictiveAnnounced,
+            knob: 1.0,
+            frames,
+            worst: None,
+        }];
+        let told = held_rates(&runs, &summarize(&runs, 0.1), 0.1).remove(0);
+        assert_eq!(told.over_in_spikes_with_room, 2.0 / 5.0);
     }
 }
