@@ -649,6 +649,22 @@ enum AcuityStatus acuity_scheduler_observe(struct AcuityScheduler *scheduler,
 enum AcuityStatus acuity_scheduler_announce_load(struct AcuityScheduler *scheduler, float extra_s);
 
 /**
+ * Sets the reactive scheduler's `s` to `scale` (finite, in (0, 1]; below
+ * the scheduler's lowest `s`, 0.01, it starts there) and climbs from it:
+ * until the first frame that is not below the dead band, `s` rises after
+ * every frame instead of after three. Call it before the first frame (or
+ * after a cut to a new scene) to show the first frames coarse rather than
+ * late: from `s = 1` the scheduler learns only from late frames how far
+ * it must come down. The predictive scheduler starts from its cost model:
+ * it refuses the call (`ACUITY_INVALID_ARGUMENT`).
+ *
+ * # Safety
+ * `scheduler` must be NULL (refused) or a live scheduler no other thread
+ * uses.
+ */
+enum AcuityStatus acuity_scheduler_start_at(struct AcuityScheduler *scheduler, float scale);
+
+/**
  * Writes what the scheduler holds into `*out` (see
  * `AcuitySchedulerState`).
  *

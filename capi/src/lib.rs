@@ -83,7 +83,8 @@ pub use profile::{
 };
 pub use scheduler::{
     AcuityScheduler, acuity_scheduler_announce_load, acuity_scheduler_apply, acuity_scheduler_free,
-    acuity_scheduler_new, acuity_scheduler_observe, acuity_scheduler_state,
+    acuity_scheduler_new, acuity_scheduler_observe, acuity_scheduler_start_at,
+    acuity_scheduler_state,
 };
 pub use selector::{
     AcuitySelector, acuity_selector_add_object, acuity_selector_add_profile,

@@ -179,6 +179,44 @@ pub unsafe extern "C" fn acuity_scheduler_announce_load(
     })
 }
 
+/// Sets the reactive scheduler's `s` to `scale` (finite, in (0, 1]; below
+/// the scheduler's lowest `s`, 0.01, it starts there) and climbs from it:
+/// until the first frame that is not below the dead band, `s` rises after
+/// every frame instead of after three. Call it before the first frame (or
+/// after a cut to a new scene) to show the first frames coarse rather than
+/// late: from `s = 1` the scheduler learns only from late frames how far
+/// it must come down. The predictive scheduler starts from its cost model:
+/// it refuses the call (`ACUITY_INVALID_ARGUMENT`).
+///
+/// # Safety
+/// `scheduler` must be NULL (refused) or a live scheduler no other thread
+/// uses.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn acuity_scheduler_start_at(
+    scheduler: *mut AcuityScheduler,
+    scale: f32,
+) -> AcuityStatus {
+    guard(|| {
+        // SAFETY: forwarded from this function's contract.
+        let sched = unsafe { borrow_mut(scheduler, "scheduler") }?;
+        if !(scale.is_finite() && scale > 0.0 && scale <= 1.0) {
+            return Err(Failure::invalid(format!(
+                "`scale` is {scale}; it must be finite and in (0, 1]"
+            )));
+        }
+        match &mut sched.inner {
+            Inner::Reactive(r) => {
+                *r = r.clone().starting_at(scale);
+                Ok(())
+            }
+            Inner::Predictive(_) => Err(Failure::invalid(
+                "the predictive scheduler starts from its cost model; \
+                 acuity_scheduler_start_at is for ACUITY_SCHEDULER_REACTIVE",
+            )),
+        }
+    })
+}
+
 /// Writes what the scheduler holds into `*out` (see
 /// `AcuitySchedulerState`).
 ///

@@ -794,6 +794,56 @@ impl Plant {
 }
 
 #[test]
+fn a_reactive_scheduler_started_low_climbs_without_the_late_start_from_c() {
+    // The plant of the next test with full detail at 1.5x the 60 Hz
+    // period (its lowest s at about half the period): from s = 1 the
+    // reactive scheduler's first frame is late; started at its lowest s
+    // it climbs, on time from the first frame.
+    let period_s = 1.0 / 60.0;
+    let plant = Plant::new(period_s, 1.5);
+    let mut sched = null_mut();
+    // SAFETY: live scheduler, selector and out-pointers throughout.
+    unsafe {
+        expect(
+            acuity_scheduler_new(ACUITY_SCHEDULER_REACTIVE, 60.0, &mut sched),
+            ACUITY_OK,
+        );
+        for scale in [0.0, -0.5, 1.5, f32::NAN, f32::INFINITY] {
+            expect(
+                acuity_scheduler_start_at(sched, scale),
+                ACUITY_INVALID_ARGUMENT,
+            );
+        }
+        expect(
+            acuity_scheduler_start_at(null_mut(), 0.5),
+            ACUITY_NULL_POINTER,
+        );
+        expect(acuity_scheduler_start_at(sched, 1e-6), ACUITY_OK);
+        let mut state = AcuitySchedulerState::default();
+        expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
+        assert_eq!(state.scale, 0.01, "the lowest s");
+        let late: Vec<usize> = (0..30)
+            .filter(|_| plant.frame(sched, 0.0) > period_s)
+            .collect();
+        assert!(late.is_empty(), "late frames {late:?}");
+        expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
+        assert!(state.scale > 0.02, "climbed to {}", state.scale);
+        expect(acuity_scheduler_free(sched), ACUITY_OK);
+        expect(
+            acuity_scheduler_new(ACUITY_SCHEDULER_PREDICTIVE, 60.0, &mut sched),
+            ACUITY_OK,
+        );
+        let m = expect(
+            acuity_scheduler_start_at(sched, 0.5),
+            ACUITY_INVALID_ARGUMENT,
+        );
+        assert!(m.contains("predictive"), "{m}");
+        expect(acuity_scheduler_free(sched), ACUITY_OK);
+        acuity_selector_free(plant.selector);
+    }
+}
+
+#[test]
 fn both_schedulers_hold_a_rate_from_c() {
     // A plant: 2 ms of fixed time and a cost per triangle that makes full
     // detail take 3x the 60 Hz period; every object's coarsest LOD fits.
