@@ -409,9 +409,9 @@ fn pct(v: Option<f64>) -> String {
 /// The schedulers' table: over% outside and within the spikes, within them
 /// out of reach and over while reachable, over with the knob at its end
 /// (`in:lim%`) and short of it where reachable (`in:room%`, each spike's
-/// first frame not counted for a policy not told of the load), once settled the floor above the
-/// aim and the late frames with room, switches, reversals, triangles, `s`
-/// and JOD.
+/// first frame not counted for a policy not told of the load), once
+/// settled the floor above the aim and the late frames with room,
+/// switches, reversals, triangles, `s` and JOD.
 pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
