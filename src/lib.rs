@@ -54,7 +54,8 @@ pub use crate::schedule::{CostModel, PredictiveScheduler, ReactiveScheduler, Rea
 pub use crate::select::{
     BudgetOutcome, BudgetRule, Diagnostics, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG,
     IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2, ObjectDesc, ObjectId, ProfileId,
-    SACCADE_THRESHOLD_DEG_PER_S, ScaleRule, Selection, Selector, SelectorSettings, SimdLevel,
+    SACCADE_THRESHOLD_DEG_PER_S, STEADY_SWITCH_COARSEN_DELAY_S, STEADY_SWITCH_HYSTERESIS,
+    STEADY_SWITCH_MIN_DWELL_S, ScaleRule, Selection, Selector, SelectorSettings, SimdLevel,
     ViewpointRule, VisibilityBudget,
 };
 pub use crate::stereo::{Eye, StereoRig};

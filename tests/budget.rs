@@ -5,7 +5,8 @@
 mod common;
 
 use acuity::{
-    BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc, ObjectId, ScaleRule,
+    BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc, ObjectId,
+    STEADY_SWITCH_COARSEN_DELAY_S, STEADY_SWITCH_HYSTERESIS, STEADY_SWITCH_MIN_DWELL_S, ScaleRule,
     Selection, Selector, SelectorSettings, VisibilityBudget,
 };
 use common::{display, four_lod_profile, frame_at, lods, on_axis, random_scene};
@@ -726,6 +727,21 @@ fn the_imperceptible_budget_is_the_calibration_on_the_selectors_display_and_foll
     let wide = Display::new([960, 768], [65.4, 50.1]).unwrap();
     assert!((on(&wide) / on(&reddy) - 2.25).abs() < 0.01);
     assert_eq!(VisibilityBudget::Off.deg_on(&wide), 0.0);
+
+    // Calibrated with the steady switch rules, and set with them.
+    let just = SelectorSettings::just_imperceptible();
+    assert_eq!(
+        (
+            just.switch_hysteresis,
+            just.switch_min_dwell_s,
+            just.switch_coarsen_delay_s
+        ),
+        (
+            STEADY_SWITCH_HYSTERESIS,
+            STEADY_SWITCH_MIN_DWELL_S,
+            STEADY_SWITCH_COARSEN_DELAY_S
+        )
+    );
 
     let frame = frame_at(DVec3::ZERO, 0.016);
     let (mut plain, ids) = random_scene(SelectorSettings::default(), 3000, 8, DVec3::ZERO);

@@ -44,7 +44,8 @@
  * `AcuitySettings::visibility_budget_deg` for the runtime's calibration
  * of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
  * over the whole image, in proportion to the display's field of view
- * (8 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`).
+ * (14 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`, which
+ * also sets the steady switch rules it was calibrated with).
  */
 #define ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE -1.0
 
@@ -916,10 +917,12 @@ enum AcuityStatus acuity_settings_default(struct AcuitySettings *out);
 
 /**
  * Writes the default settings with `s = 1` just imperceptible over the
- * whole image into `*out`: `budgeted_scale` 1 and `visibility_budget_deg`
- * `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` (fewer triangles at `s = 1`,
- * still imperceptible, for a budgeted selection per frame: about ten
- * times the plain selection's cost per object).
+ * whole image into `*out`: `budgeted_scale` 1, `visibility_budget_deg`
+ * `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` and the steady switch rules the
+ * budget was calibrated with (`switch_hysteresis` 0.15,
+ * `switch_min_dwell_s` 0.3, `switch_coarsen_delay_s` 0.5): fewer
+ * triangles at `s = 1`, still imperceptible, for a budgeted selection per
+ * frame (about ten times the plain selection's cost per object).
  *
  * # Safety
  * `out` must be NULL (refused) or valid for writing an `AcuitySettings`.

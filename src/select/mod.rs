@@ -465,14 +465,32 @@ pub enum VisibilityBudget {
 
 /// The visibility budget that puts `s = 1` at the edge of visibility on a
 /// display of [`IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2`], deg
-/// ([`VisibilityBudget::Imperceptible`]). Fixed once, for every scene and
-/// display, from the budgeted sweeps of the lab's `scenes/library.toml`,
-/// `scenes/default.toml` and `scenes/reddy1998.toml`: the library's edge
-/// of visibility (FovVideoVDP, foveated, 9.75 JOD) lies at about this much
-/// visibility summed over its image, and the other scenes (and the library
-/// on a field of 2.25 times the area, with the budget scaled to it) stay
-/// imperceptible with it.
-pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 8.0;
+/// ([`VisibilityBudget::Imperceptible`]), with the steady switch rules of
+/// [`SelectorSettings::just_imperceptible`]. Fixed once, for every scene
+/// and display, on the lab's `scenes/library.toml`, the shipped scene
+/// whose differences are most visible: the largest budget measured (in
+/// steps of 2 deg) that keeps `s = 1` at or above the edge of visibility
+/// there (FovVideoVDP, foveated, 9.75 JOD); the other shipped scenes, and
+/// the library on a field of 2.25 times the area with the budget scaled
+/// to it, stay imperceptible with it.
+pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 14.0;
+
+/// [`SelectorSettings::switch_hysteresis`] of the steady switch rules
+/// ([`SelectorSettings::just_imperceptible`], and the lab's schedulers):
+/// an object near a transition's critical frequency switches once as the
+/// view or `s` crosses it, not back and forth with every small wobble.
+pub const STEADY_SWITCH_HYSTERESIS: f32 = 0.15;
+
+/// [`SelectorSettings::switch_min_dwell_s`] of the steady switch rules, s:
+/// longer than the quarter second within which a switch back reads as
+/// flicker.
+pub const STEADY_SWITCH_MIN_DWELL_S: f32 = 0.3;
+
+/// [`SelectorSettings::switch_coarsen_delay_s`] of the steady switch
+/// rules, s: a head sweep or a glance carries objects out of the fovea and
+/// back within about a second, and each trip out would otherwise cost a
+/// coarsening and a refinement.
+pub const STEADY_SWITCH_COARSEN_DELAY_S: f32 = 0.5;
 
 /// The field of view [`IMPERCEPTIBLE_VISIBILITY_DEG`] was fixed on, deg²:
 /// 43.6 x 33.4 deg, Reddy 1998's display.
@@ -496,9 +514,13 @@ impl VisibilityBudget {
 
 impl SelectorSettings {
     /// The default settings with `s = 1` just imperceptible over the whole
-    /// image: [`ScaleRule::Budgeted`] and
-    /// [`VisibilityBudget::Imperceptible`]. Where the default draws at
-    /// `s = 1` the LODs each invisible on its own, these also spend the
+    /// image: [`ScaleRule::Budgeted`], [`VisibilityBudget::Imperceptible`]
+    /// and the steady switch rules ([`STEADY_SWITCH_HYSTERESIS`],
+    /// [`STEADY_SWITCH_MIN_DWELL_S`], [`STEADY_SWITCH_COARSEN_DELAY_S`]),
+    /// with which the budget was calibrated: a switch is a change over
+    /// time the eye sees beside the detail it removes, and with fewer of
+    /// them the same image hides more. Where the default draws at `s = 1`
+    /// the LODs each invisible on its own, these also spend the
     /// visibility an image can hide (fewer triangles, still
     /// imperceptible), for a budgeted selection per frame (about ten times
     /// the plain loop's cost per object).
@@ -506,6 +528,9 @@ impl SelectorSettings {
         Self {
             scale_rule: ScaleRule::Budgeted,
             visibility_budget: VisibilityBudget::Imperceptible,
+            switch_hysteresis: STEADY_SWITCH_HYSTERESIS,
+            switch_min_dwell_s: STEADY_SWITCH_MIN_DWELL_S,
+            switch_coarsen_delay_s: STEADY_SWITCH_COARSEN_DELAY_S,
             ..Self::default()
         }
     }
