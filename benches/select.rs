@@ -24,7 +24,10 @@
 //! effort (at `s = 1` it is the plain loop). `single_thread_pooled` (1e5
 //! and 1e6) selects at `s = 1` with that rule and a visibility budget
 //! ([`SelectorSettings::visibility_budget`], 12 deg): a budgeted
-//! selection every frame.
+//! selection every frame. `single_thread_just_imperceptible` (1e5 and
+//! 1e6) is [`SelectorSettings::just_imperceptible`] at `s = 1`: the
+//! calibrated budget (on this display's field of view) and the steady
+//! switch rules, as shipped.
 //!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
@@ -59,11 +62,19 @@ enum Extras {
     BudgetedScale,
     /// Selection at `s = 1` with a visibility budget.
     Pooled,
+    /// [`SelectorSettings::just_imperceptible`] at `s = 1`: the calibrated
+    /// visibility budget and the steady switch rules.
+    JustImperceptible,
 }
 
 fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
     let adjusted = extras == Extras::Adjusted;
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
+    let base = if extras == Extras::JustImperceptible {
+        SelectorSettings::just_imperceptible()
+    } else {
+        SelectorSettings::default()
+    };
     let settings = SelectorSettings {
         parallel_min_objects: if parallel { 0 } else { usize::MAX },
         simd,
@@ -71,19 +82,19 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
         fade_time_s: if adjusted { 0.2 } else { 0.0 },
         budget_rule: match extras {
             Extras::Budget(rule) => rule,
-            _ => BudgetRule::default(),
+            _ => base.budget_rule,
         },
         scale_rule: if matches!(extras, Extras::BudgetedScale | Extras::Pooled) {
             ScaleRule::Budgeted
         } else {
-            ScaleRule::Uniform
+            base.scale_rule
         },
         visibility_budget: if extras == Extras::Pooled {
             VisibilityBudget::Deg(12.0)
         } else {
-            VisibilityBudget::Off
+            base.visibility_budget
         },
-        ..Default::default()
+        ..base
     };
     let mut sel = Selector::new(display, settings);
     let profiles: Vec<_> = (0..8)
@@ -199,12 +210,20 @@ fn bench_select(c: &mut Criterion) {
                 SimdLevel::Widest,
                 Extras::Pooled,
             ),
+            (
+                "single_thread_just_imperceptible",
+                false,
+                SimdLevel::Widest,
+                Extras::JustImperceptible,
+            ),
         ] {
             let wanted = match extras {
                 Extras::None => true,
-                Extras::Tracked | Extras::Budget(_) | Extras::BudgetedScale | Extras::Pooled => {
-                    n >= 100_000
-                }
+                Extras::Tracked
+                | Extras::Budget(_)
+                | Extras::BudgetedScale
+                | Extras::Pooled
+                | Extras::JustImperceptible => n >= 100_000,
                 Extras::Adjusted => n == 100_000,
             };
             if !wanted {
