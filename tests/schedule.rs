@@ -985,6 +985,18 @@ fn a_told_load_leaves_the_budget_as_it_found_it() {
     }
 }
 
+/// A plant whose objects all switch below `s = 0.24`, so the first
+/// halvings of `s` change no triangles, under a load that makes the frame
+/// at `s = 1` take 2.4x to 3.7x the 90 Hz period (by seed).
+fn overloaded_plant(seed: u64) -> (Plant, f32) {
+    let mut plant = Plant::new(seed);
+    for b in &mut plant.breakpoints {
+        *b = b.map(|x| 0.15 * x);
+    }
+    plant.seconds_per_triangle = 0.8 / 90.0 / plant.triangles(1.0);
+    (plant, 3.0 + (seed % 3) as f32 * 0.8)
+}
+
 #[test]
 fn coming_down_from_an_overload_where_the_cost_is_flat_in_s_takes_few_late_frames() {
     // At the start the frame takes 2.4x to 3.7x the period, and the
@@ -996,12 +1008,7 @@ fn coming_down_from_an_overload_where_the_cost_is_flat_in_s_takes_few_late_frame
     let target = 1.0 / 90.0;
     let mut worst = 0;
     for seed in 0..20 {
-        let mut plant = Plant::new(seed);
-        for b in &mut plant.breakpoints {
-            *b = b.map(|x| 0.15 * x);
-        }
-        plant.seconds_per_triangle = 0.8 / 90.0 / plant.triangles(1.0);
-        let load = 3.0 + (seed % 3) as f32 * 0.8;
+        let (plant, load) = overloaded_plant(seed);
         let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
         let mut late = 0;
         let mut trace = Vec::new();
@@ -1040,12 +1047,7 @@ fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_
     let target = 1.0 / 90.0;
     let mut slowest = 0;
     for seed in 0..20 {
-        let mut plant = Plant::new(seed);
-        for b in &mut plant.breakpoints {
-            *b = b.map(|x| 0.15 * x);
-        }
-        plant.seconds_per_triangle = 0.8 / 90.0 / plant.triangles(1.0);
-        let load = 3.0 + (seed % 3) as f32 * 0.8;
+        let (plant, load) = overloaded_plant(seed);
         let settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
         let mut sched = ReactiveScheduler::new(settings).starting_at(settings.min_scale);
         assert_eq!(sched.scale(), settings.min_scale);
