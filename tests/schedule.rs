@@ -143,7 +143,7 @@ impl Reversals {
 }
 
 /// The selector's switch hysteresis under a reactive scheduler (the
-/// command line's `SCHEDULED_SWITCH_HYSTERESIS`).
+/// runtime's `STEADY_SWITCH_HYSTERESIS`).
 const SWITCH_HYSTERESIS: f32 = 0.15;
 
 /// Frames at 90 Hz within which a switch back counts as a reversal (0.25 s).

@@ -61,27 +61,6 @@ pub fn components(policy: Policy) -> Option<Components> {
     }
 }
 
-/// The switch hysteresis of the policies a frame-rate scheduler drives
-/// ([`SelectorSettings::switch_hysteresis`]): their `s` moves, so objects
-/// near a transition would otherwise switch back and forth with it. The
-/// runtime's steady switch rules, as `acuity_all_pooled` has them through
-/// [`SelectorSettings::just_imperceptible`].
-pub const SCHEDULED_SWITCH_HYSTERESIS: f32 = acuity::STEADY_SWITCH_HYSTERESIS;
-
-/// The least time an object of those policies holds an LOD before it
-/// coarsens ([`SelectorSettings::switch_min_dwell_s`]), s: longer than the
-/// quarter second within which a switch back reads as flicker (the
-/// reversal counter's window), so that a switch the dwell rule holds back
-/// never lands on that window's edge.
-pub const SCHEDULED_MIN_DWELL_S: f32 = acuity::STEADY_SWITCH_MIN_DWELL_S;
-
-/// How long the view must ask those policies' objects for a coarser LOD
-/// before they coarsen ([`SelectorSettings::switch_coarsen_delay_s`]), s:
-/// a head sweep carries objects out of the fovea and back within about
-/// a second, and each trip out would otherwise cost a coarsening and a
-/// refinement; a falling `s` still coarsens at once.
-pub const SCHEDULED_COARSEN_DELAY_S: f32 = acuity::STEADY_SWITCH_COARSEN_DELAY_S;
-
 /// What a policy chose for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Choice {
@@ -209,9 +188,9 @@ impl PolicyRunner {
             } else {
                 SelectorSettings::default().budget_hysteresis
             },
-            switch_hysteresis: when_steady(SCHEDULED_SWITCH_HYSTERESIS),
-            switch_min_dwell_s: when_steady(SCHEDULED_MIN_DWELL_S),
-            switch_coarsen_delay_s: when_steady(SCHEDULED_COARSEN_DELAY_S),
+            switch_hysteresis: when_steady(acuity::STEADY_SWITCH_HYSTERESIS),
+            switch_min_dwell_s: when_steady(acuity::STEADY_SWITCH_MIN_DWELL_S),
+            switch_coarsen_delay_s: when_steady(acuity::STEADY_SWITCH_COARSEN_DELAY_S),
             ..SelectorSettings::default()
         };
         let mut selector = Selector::new(world.display, settings);

@@ -483,7 +483,8 @@ pub const STEADY_SWITCH_HYSTERESIS: f32 = 0.15;
 
 /// [`SelectorSettings::switch_min_dwell_s`] of the steady switch rules, s:
 /// longer than the quarter second within which a switch back reads as
-/// flicker.
+/// flicker (the lab's reversal counter's window), so that a switch the
+/// dwell rule holds back never lands on that window's edge.
 pub const STEADY_SWITCH_MIN_DWELL_S: f32 = 0.3;
 
 /// [`SelectorSettings::switch_coarsen_delay_s`] of the steady switch
