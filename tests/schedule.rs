@@ -5,7 +5,9 @@
 
 mod common;
 
-use acuity::{CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings};
+use acuity::{
+    CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings, STEADY_SWITCH_HYSTERESIS,
+};
 use common::Rng;
 use proptest::prelude::*;
 
@@ -142,10 +144,6 @@ impl Reversals {
     }
 }
 
-/// The selector's switch hysteresis under a reactive scheduler (the
-/// runtime's `STEADY_SWITCH_HYSTERESIS`).
-const SWITCH_HYSTERESIS: f32 = 0.15;
-
 /// Frames at 90 Hz within which a switch back counts as a reversal (0.25 s).
 const REVERSAL_WINDOW_FRAMES: usize = 22;
 
@@ -172,7 +170,7 @@ fn reactive_steady(settings: ReactiveSettings, seed: u64, load: f32, sigma: f32)
     let (mut lods, mut rev, mut over) = (Vec::new(), Reversals::default(), 0);
     for frame in 0..900 {
         let s = sched.scale();
-        let triangles = plant.step_lods(s, SWITCH_HYSTERESIS, &mut lods);
+        let triangles = plant.step_lods(s, STEADY_SWITCH_HYSTERESIS, &mut lods);
         if frame >= 300 {
             rev.observe(frame, &lods, REVERSAL_WINDOW_FRAMES);
         }
