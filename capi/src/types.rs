@@ -21,7 +21,7 @@ pub const ACUITY_NO_BUDGET: u64 = u64::MAX;
 /// `AcuitySettings::visibility_budget_deg` for the runtime's calibration
 /// of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
 /// over the whole image, in proportion to the display's field of view
-/// (12 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`, which
+/// (16 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`, which
 /// also sets the steady switch rules it was calibrated with).
 pub const ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE: f32 = -1.0;
 

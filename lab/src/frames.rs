@@ -104,9 +104,10 @@ pub struct ProfileArgs {
     /// 1: 18, 2: 66) [default: the scene's `[profiles]`, else 1].
     #[cfg_attr(feature = "clap", arg(long, value_parser = clap::value_parser!(u32).range(0..=AnalysisSettings::MAX_VIEWPOINT_LEVEL as i64)))]
     pub profile_viewpoints: Option<u32>,
-    /// Feature-size statistic of profiles that must be made: `thickness`
-    /// (inscribed-disc diameter: a feature's width), `longest`, `mean` or
-    /// `shortest` [default: the scene's `[profiles]`, else thickness].
+    /// Feature-size statistic of profiles that must be made: `mean` (a
+    /// feature's extent averaged over orientations), `longest`,
+    /// `thickness` (inscribed-disc diameter: its width) or `shortest`
+    /// [default: the scene's `[profiles]`, else mean].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_statistic))]
     pub profile_statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Just-noticeable colour difference (ΔE*uv, > 0) of profiles that

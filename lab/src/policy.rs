@@ -22,7 +22,7 @@ use crate::screen_size::{
 };
 use acuity::{
     BudgetRule, Components, CostModel, FrameInput, ObjectDesc, ObjectId, PredictiveScheduler,
-    ReactiveScheduler, ReactiveSettings, ScaleRule, Selector, SelectorSettings, VisibilityBudget,
+    ReactiveScheduler, ReactiveSettings, ScaleRule, Selector, SelectorSettings,
 };
 
 /// The model components a policy selects with; `None` for policies that do
@@ -136,11 +136,16 @@ impl PolicyRunner {
         let cross_fade_s = world.scene.run.cross_fade_s as f32;
         let selector_fades = !(policy == Policy::Full || policy.is_screen_size());
         let scheduled = policy.is_scheduled() && !policy.is_untuned();
-        // The steady switch rules of the tuned schedulers and of `s = 1`
-        // just imperceptible (`SelectorSettings::just_imperceptible`); off
-        // elsewhere.
-        let steady = scheduled || policy == Policy::AcuityAllPooled;
-        let when_steady = |v: f32| if steady { v } else { 0.0 };
+        // `acuity_all_pooled` is the runtime's `s = 1` just imperceptible
+        // as shipped; the tuned schedulers add its steady switch rules to
+        // their own settings.
+        let base = if policy == Policy::AcuityAllPooled {
+            SelectorSettings::just_imperceptible()
+        } else {
+            SelectorSettings::default()
+        };
+        let when_scheduled =
+            |steady: f32, otherwise: f32| if scheduled { steady } else { otherwise };
         let settings = SelectorSettings {
             fade_time_s: if selector_fades { cross_fade_s } else { 0.0 },
             components: components(policy).unwrap_or(Components::ALL),
@@ -170,28 +175,30 @@ impl PolicyRunner {
             },
             scale_rule: if matches!(
                 policy,
-                Policy::AcuityAllBudgeted
-                    | Policy::AcuityAllPooled
-                    | Policy::AcuityReactiveBudgeted
+                Policy::AcuityAllBudgeted | Policy::AcuityReactiveBudgeted
             ) {
                 ScaleRule::Budgeted
             } else {
-                ScaleRule::Uniform
-            },
-            visibility_budget: if policy == Policy::AcuityAllPooled {
-                VisibilityBudget::Imperceptible
-            } else {
-                VisibilityBudget::Off
+                base.scale_rule
             },
             budget_hysteresis: if policy == Policy::AcuityPredictiveNoHeadroom {
                 0.0
             } else {
-                SelectorSettings::default().budget_hysteresis
+                base.budget_hysteresis
             },
-            switch_hysteresis: when_steady(acuity::STEADY_SWITCH_HYSTERESIS),
-            switch_min_dwell_s: when_steady(acuity::STEADY_SWITCH_MIN_DWELL_S),
-            switch_coarsen_delay_s: when_steady(acuity::STEADY_SWITCH_COARSEN_DELAY_S),
-            ..SelectorSettings::default()
+            switch_hysteresis: when_scheduled(
+                acuity::STEADY_SWITCH_HYSTERESIS,
+                base.switch_hysteresis,
+            ),
+            switch_min_dwell_s: when_scheduled(
+                acuity::STEADY_SWITCH_MIN_DWELL_S,
+                base.switch_min_dwell_s,
+            ),
+            switch_coarsen_delay_s: when_scheduled(
+                acuity::STEADY_SWITCH_COARSEN_DELAY_S,
+                base.switch_coarsen_delay_s,
+            ),
+            ..base
         };
         let mut selector = Selector::new(world.display, settings);
         let profiles = world

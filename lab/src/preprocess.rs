@@ -96,10 +96,11 @@ pub struct PreprocessArgs {
     /// [default: a scene's `[profiles]`, else 2.3].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub threshold: Option<f32>,
-    /// Feature-size statistic: `thickness` (diameter of the largest
-    /// inscribed disc: a thin sliver is as fine as its width, however
-    /// long), `longest`, `shortest` or `mean` [default: a scene's
-    /// `[profiles]`, else thickness].
+    /// Feature-size statistic: `mean` (a feature's extent averaged over
+    /// orientations), `longest` (the lowest frequency it could be seen
+    /// at), `thickness` (diameter of the largest inscribed disc: a thin
+    /// sliver is as fine as its width, however long) or `shortest`
+    /// [default: a scene's `[profiles]`, else mean].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_statistic))]
     pub statistic: Option<acuity_preprocess::FrequencyStatistic>,
     /// Folder for the profiles (NAME.acp, one per object) [default:

@@ -25,8 +25,8 @@
 //!   everywhere, so regions are single pixels and every change breaks
 //!   into one-pixel features that read as finer than they are.
 //! - **Size**: the feature's length under a [`FrequencyStatistic`]
-//!   ([`crate::frequency`]; by default its thickness, the width across it:
-//!   a thin ring is as fine as its width), giving `1 / (2 L)` c/pixel.
+//!   ([`crate::frequency`]; by default its mean extent over orientations),
+//!   giving `1 / (2 L)` c/pixel.
 //! - **Luminance contrast** is Michelson contrast between the feature's
 //!   mean *linear* relative luminance `Y` (CIE Y of the sRGB pixels, 0 to 1)
 //!   in the two renderings: what the feature shows against what replaces it

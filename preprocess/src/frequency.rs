@@ -35,19 +35,28 @@
 //!   `|cos|` of the angle to the normal, so thin slanted features read up to
 //!   about one pixel off (under 5% from a width of 20 px; see
 //!   `tests/synthetic.rs`).
-//! - **Which statistic**: Feret extents measure a feature's *span*; for a
-//!   thin feature that wraps round the object (a silhouette that moved by a
-//!   pixel or two all round, a ring whose span is the object's diameter)
-//!   every direction gives about the diameter, so `Longest`, `Mean` and
-//!   even `Shortest` report ~1 c/diam and the transition is never allowed
-//!   early. `Thickness` measures what acuity must resolve to see such a
-//!   sliver: its width, and is the default (a feature's relevant
-//!   length is its width across). It agrees with the others on
-//!   compact features (a disc gives `D` by all four); `Longest` remains as
-//!   the bound that a compact feature's longest span is the lowest
-//!   frequency it could be seen at. A thin feature's low contrast, not a
-//!   long span, is what makes it hard to see, and the contrast is measured
-//!   separately ([`crate::features`]).
+//! - **Which statistic**: `Mean` is the default. A feature's extent
+//!   averaged over the K directions is its size as orientation-tuned
+//!   channels see it, at every orientation: a disc's diameter, about
+//!   `0.64 L` for a thin sliver of length `L`, between its width and its
+//!   span. What decides is how it prices the kinds of object against each
+//!   other, since the runtime's visibility budget of `s = 1` is spent on
+//!   whichever kind looks cheapest: a coarser LOD's faceted shading
+//!   changes large areas of a smooth surface by a little, which the
+//!   grouping breaks into thousands of specks and thin pieces; by their
+//!   width (`Thickness`) the pieces all read at the resolution limit
+//!   whatever the object's size, so a smooth object's transitions looked
+//!   nearly free and the budget went where FovVideoVDP saw it. Judged by
+//!   FovVideoVDP, `Mean` and `Longest` keep every kind measured at the
+//!   edge of visibility and `Mean` keeps equal or more quality at equal
+//!   triangles (`docs/perception.md`, "The size statistic"). The cost: a
+//!   thin sliver that wraps round the object (a silhouette moved by a
+//!   pixel or two all round) spans the object's diameter in every
+//!   direction, so `Mean`, `Longest` and even `Shortest` report ~1 c/diam
+//!   and such a transition is allowed later; `Thickness` measures its
+//!   width instead. All four agree on compact features (a disc gives `D`
+//!   by all four). A thin feature's low contrast is what makes it hard to
+//!   see, and the contrast is measured separately ([`crate::features`]).
 //! - Converting to cycles per object diameter multiplies by the bounding
 //!   sphere's diameter in pixels (the image size for the analysis camera).
 
@@ -65,12 +74,14 @@ pub enum FrequencyStatistic {
     Longest,
     /// The shortest extent (the feature's width, highest frequency).
     Shortest,
-    /// The mean extent over the K directions.
+    /// The mean extent over the K directions (the mean caliper diameter):
+    /// a feature's size averaged over orientations. The default (see the
+    /// module docs).
+    #[default]
     Mean,
     /// The diameter of the largest inscribed disc (the feature's width,
-    /// whatever its shape or orientation; see the module docs). The
-    /// default: a feature's width across is its relevant length.
-    #[default]
+    /// whatever its shape or orientation; see the module docs): a thin
+    /// sliver is as fine as its width, however long.
     Thickness,
 }
 

@@ -42,7 +42,7 @@ pub struct AnalysisSettings {
     /// MSAA samples, 4 (default), 1 (none) or what the adapter supports;
     /// must match the [`crate::Renderer`]'s.
     pub msaa_samples: u32,
-    /// How a feature's extents become one length (default thickness).
+    /// How a feature's extents become one length (default mean).
     pub statistic: FrequencyStatistic,
     /// Background colour, sRGB8 (default black).
     pub background_srgb: [u8; 3],
@@ -58,7 +58,7 @@ impl Default for AnalysisSettings {
             threshold_delta_e: segment::DEFAULT_THRESHOLD_DELTA_E,
             feret_directions: frequency::DEFAULT_FERET_DIRECTIONS,
             msaa_samples: crate::render::DEFAULT_MSAA_SAMPLES,
-            statistic: FrequencyStatistic::Thickness,
+            statistic: FrequencyStatistic::Mean,
             background_srgb: [0, 0, 0],
         }
     }

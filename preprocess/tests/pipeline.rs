@@ -308,7 +308,7 @@ fn default_settings_have_a_pinned_cache_key() {
         AnalysisSettings::default().cache_key(),
         "analysis v3; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
          grouping=change_sign; threshold_delta_e_bits=0x40133333; feret_directions=8; \
-         msaa_samples=4; statistic=thickness; background_srgb=0,0,0"
+         msaa_samples=4; statistic=mean; background_srgb=0,0,0"
     );
 }
 
@@ -345,7 +345,7 @@ fn every_setting_changes_the_cache_key() {
             ..base.clone()
         },
         AnalysisSettings {
-            statistic: FrequencyStatistic::Longest,
+            statistic: FrequencyStatistic::Thickness,
             ..base.clone()
         },
         AnalysisSettings {

@@ -60,7 +60,7 @@
 //! resolution = 512                   # the size ladder's largest rung, pixels
 //! min_diameter = 16                  # its smallest rung (rungs halve from `resolution`)
 //! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
-//! statistic = "thickness"            # "thickness" | "longest" | "mean" | "shortest"
+//! statistic = "mean"                 # "mean" | "longest" | "thickness" | "shortest"
 //! threshold_delta_e = 2.3            # just-noticeable ΔE*uv of region growing
 //! msaa_samples = 4                   # anti-aliasing of the analysis and of `run`'s frames
 //! ```
