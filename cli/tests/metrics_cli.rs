@@ -350,7 +350,8 @@ fn fvvdp_without_a_python_is_a_clear_error() {
 
 /// A stand-in for Python with pyfvvdp (the script arrives on stdin and is
 /// ignored): `--check` passes; scoring prints a log line, then a fixed JOD
-/// per sequence folder of the dump (`$2`); `exit_code` other than 0 fails.
+/// per sequence folder of the dump (`$2`), and for three of them a local
+/// 99.9th percentile; `exit_code` other than 0 fails.
 #[cfg(unix)]
 fn fake_python(dir: &Path, exit_code: i32) -> PathBuf {
     use std::os::unix::fs::PermissionsExt;
@@ -363,14 +364,16 @@ echo "scoring $2"
 out="{{"; sep=""
 for d in "$2"/*/; do
   n=$(basename "$d")
+  l=""
   case "$n" in
     full_1) j=10 ;;
-    screen_size_0.5) j=8.5 ;;
-    screen_size_2) j=9.5 ;;
-    acuity_size_1) j=9.25 ;;
+    screen_size_0.5) j=8.5; l=1.2 ;;
+    screen_size_2) j=9.5; l=0.4 ;;
+    acuity_size_1) j=9.25; l=0.5 ;;
     *) j=8 ;;
   esac
   out="$out$sep\"$n\": $j"; sep=", "
+  [ -n "$l" ] && out="$out, \"$n:local_p999\": $l"
 done
 echo "$out}}"
 "#
@@ -485,6 +488,15 @@ fn fvvdp_scores_from_the_script_reach_table_csv_and_plots() {
         row("acuity_size", "0.5")[at("triangles_vs_screen_size_jod")],
         ""
     );
+    // Screen size's local maximum at the same JOD: linear in JOD, 3/4 of
+    // the way from 1.2 to 0.4; none below the curve or for screen size.
+    assert_eq!(acuity[at("jod_local_p999")], "0.5000");
+    assert_eq!(acuity[at("screen_size_jod_local_p999")], "0.6000");
+    assert_eq!(
+        row("acuity_size", "0.5")[at("screen_size_jod_local_p999")],
+        ""
+    );
+    assert_eq!(lo[at("screen_size_jod_local_p999")], "");
 }
 
 #[cfg(unix)]

@@ -258,6 +258,11 @@ pub struct ErrorRow {
     pub vs_screen_size_flip: Option<f64>,
     /// The same at equal FovVideoVDP JOD (`None` also without JOD).
     pub vs_screen_size_jod: Option<f64>,
+    /// Screen size's local 99.9th percentile (JOD units) at this row's
+    /// JOD, read off screen size's sweep ([`local_p999_at_equal_jod`]):
+    /// the most visible local difference screen size shows at the same
+    /// overall quality (`None` as for `vs_screen_size_jod`).
+    pub screen_size_local_p999: Option<f64>,
 }
 
 /// What [`error`] measured: one row per configuration, in play order
@@ -286,6 +291,11 @@ impl ErrorSweep {
             screen_curve(&|s| s.flip_mean),
             screen_curve(&|s| s.jod.unwrap_or(f64::NAN)),
         );
+        let local_curve: Vec<(f64, f64)> = summaries
+            .iter()
+            .filter(|s| s.policy == Policy::ScreenSize)
+            .filter_map(|s| Some((s.jod?, s.jod_local_p999?)))
+            .collect();
         let rows = summaries
             .iter()
             .map(|s| {
@@ -293,9 +303,14 @@ impl ErrorSweep {
                     Policy::Full | Policy::ScreenSize => None,
                     _ => triangles_at_equal(curve, v, m).map(|t| s.triangles / t),
                 };
+                let compared = !matches!(s.policy, Policy::Full | Policy::ScreenSize);
                 ErrorRow {
                     vs_screen_size_flip: vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip),
                     vs_screen_size_jod: s.jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod)),
+                    screen_size_local_p999: s
+                        .jod
+                        .filter(|_| compared)
+                        .and_then(|j| local_p999_at_equal_jod(&local_curve, j)),
                     summary: s.clone(),
                 }
             })
@@ -309,7 +324,10 @@ impl ErrorSweep {
     pub fn table(&self) -> String {
         let mut out = String::new();
         let jod_head = if self.fvvdp {
-            format!(" {:>6} {:>10} {:>9}", "JOD", "vs scr JOD", "JOD p99.9")
+            format!(
+                " {:>6} {:>10} {:>9} {:>9}",
+                "JOD", "vs scr JOD", "JOD p99.9", "scr p99.9"
+            )
         } else {
             String::new()
         };
@@ -332,10 +350,11 @@ impl ErrorSweep {
             let s = &r.summary;
             let jod_cols = if self.fvvdp {
                 format!(
-                    " {:>6} {:>10} {:>9}",
+                    " {:>6} {:>10} {:>9} {:>9}",
                     text(s.jod, &|j| format!("{j:.3}"), "-"),
                     text(r.vs_screen_size_jod, &|r| format!("{r:.2}x"), "-"),
-                    text(s.jod_local_p999, &|r| format!("{r:.3}"), "-")
+                    text(s.jod_local_p999, &|r| format!("{r:.3}"), "-"),
+                    text(r.screen_size_local_p999, &|r| format!("{r:.3}"), "-")
                 )
             } else {
                 String::new()
@@ -366,7 +385,7 @@ impl ErrorSweep {
         if self.fvvdp {
             out.push_str(
                 "JOD: FovVideoVDP quality, foveated (10 = indistinguishable); vs scr JOD: triangles over screen size's at the same JOD;\n\
-                 JOD p99.9: the local 99.9th percentile (the worst small region).\n",
+                 JOD p99.9: the local 99.9th percentile (the worst small region); scr p99.9: screen size's at the same JOD.\n",
             );
         }
         out
@@ -375,13 +394,13 @@ impl ErrorSweep {
     /// The rows as `error.csv` holds them, with its header.
     pub fn csv(&self) -> String {
         let mut csv = String::from(
-            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999,selection_visibility_deg\n",
+            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999,selection_visibility_deg,screen_size_jod_local_p999\n",
         );
         for r in &self.rows {
             let s = &r.summary;
             let _ = writeln!(
                 csv,
-                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{},{}",
+                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{},{},{}",
                 s.policy.name(),
                 s.knob,
                 s.mean_ms,
@@ -397,6 +416,7 @@ impl ErrorSweep {
                 s.reversals_per_s,
                 text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
                 text(s.visibility_deg, &|r| format!("{r:.4}"), ""),
+                text(r.screen_size_local_p999, &|r| format!("{r:.4}"), ""),
             );
         }
         csv
@@ -451,6 +471,33 @@ pub fn triangles_at_equal(curve: &[(f64, f64)], value: f64, measure: ErrorMeasur
     })
 }
 
+/// The local 99.9th percentile a curve of points `(JOD, local 99.9th
+/// percentile)` (any order) shows at JOD `jod`, interpolated linearly in
+/// JOD between the two neighbouring points. `None` outside the curve's
+/// range of JOD or where there is none (no extrapolation); non-finite
+/// points are left out, and points of equal JOD count as the lowest local
+/// value among them (the comparison a policy must pass is against the
+/// best the curve shows at that JOD).
+pub fn local_p999_at_equal_jod(curve: &[(f64, f64)], jod: f64) -> Option<f64> {
+    if !jod.is_finite() {
+        return None;
+    }
+    let mut pts: Vec<(f64, f64)> = curve
+        .iter()
+        .copied()
+        .filter(|(j, l)| j.is_finite() && l.is_finite())
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    pts.dedup_by(|b, a| a.0 == b.0);
+    if let Some(&(_, l)) = pts.iter().find(|p| p.0 == jod) {
+        return Some(l);
+    }
+    pts.windows(2).find_map(|w| {
+        let ((j0, l0), (j1, l1)) = (w[0], w[1]);
+        (j0 < jod && jod < j1).then(|| l0 + (l1 - l0) * (jod - j0) / (j1 - j0))
+    })
+}
+
 /// [`triangles_at_equal`] for mean FLIP.
 pub fn triangles_at_equal_error(curve: &[(f64, f64)], flip: f64) -> Option<f64> {
     triangles_at_equal(curve, flip, ErrorMeasure::Flip)
@@ -493,6 +540,24 @@ mod tests {
         let t = triangles_at_equal(&low, -0.5, ErrorMeasure::Jod).unwrap();
         assert!((t - 200.0).abs() < 1e-9, "{t}");
         assert_eq!(triangles_at_equal(&low, -0.5, ErrorMeasure::Flip), None);
+    }
+
+    #[test]
+    fn local_maximum_at_equal_jod_interpolates_linearly_and_never_extrapolates() {
+        // Screen size's sweep: a higher JOD, a lower local maximum.
+        let curve = [(9.9, 0.2), (9.6, 1.1), (9.7, 0.8), (9.7, 0.9)];
+        let at = |j| local_p999_at_equal_jod(&curve, j);
+        let mid = at(9.8).unwrap();
+        assert!((mid - 0.5).abs() < 1e-9, "{mid}");
+        let low = at(9.65).unwrap();
+        assert!((low - 0.95).abs() < 1e-9, "{low}");
+        // Ties take the lowest local value; the ends are in.
+        assert_eq!(at(9.7), Some(0.8));
+        assert_eq!(at(9.9), Some(0.2));
+        assert_eq!(at(9.59), None);
+        assert_eq!(at(9.91), None);
+        assert_eq!(at(f64::NAN), None);
+        assert_eq!(local_p999_at_equal_jod(&[(f64::NAN, 1.0)], 9.0), None);
     }
 
     #[test]

@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 pub use error_curve::{
-    ErrorArgs, ErrorMeasure, ErrorRow, ErrorSweep, error, triangles_at_equal,
-    triangles_at_equal_error,
+    ErrorArgs, ErrorMeasure, ErrorRow, ErrorSweep, error, local_p999_at_equal_jod,
+    triangles_at_equal, triangles_at_equal_error,
 };
 pub use framerate::{FramerateArgs, FramerateOutcome, framerate};
 pub use speedup::{PAPER_COUNTS, SpeedupArgs, SpeedupOutcome, SpeedupTrial, size_share, speedup};
