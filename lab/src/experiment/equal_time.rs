@@ -47,36 +47,7 @@ fn screen_size_curve(sums: &[Summary]) -> Vec<(f64, f64)> {
 /// frame time the controller never ran at is not measured) or for a
 /// non-finite `mean_ms`; points with the same frame time are averaged.
 pub fn jod_at_frame_time(curve: &[(f64, f64)], mean_ms: f64) -> Option<f64> {
-    if !mean_ms.is_finite() {
-        return None;
-    }
-    let mut pts: Vec<(f64, f64)> = curve
-        .iter()
-        .copied()
-        .filter(|(t, j)| t.is_finite() && j.is_finite())
-        .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut merged: Vec<(f64, f64, u32)> = Vec::with_capacity(pts.len());
-    for (t, j) in pts {
-        match merged.last_mut() {
-            Some(m) if m.0 == t => {
-                m.1 += j;
-                m.2 += 1;
-            }
-            _ => merged.push((t, j, 1)),
-        }
-    }
-    let pts: Vec<(f64, f64)> = merged
-        .into_iter()
-        .map(|(t, j, n)| (t, j / f64::from(n)))
-        .collect();
-    if let Some(&(_, j)) = pts.iter().find(|p| p.0 == mean_ms) {
-        return Some(j);
-    }
-    pts.windows(2).find_map(|w| {
-        let ((t0, j0), (t1, j1)) = (w[0], w[1]);
-        (t0 < mean_ms && mean_ms < t1).then(|| j0 + (j1 - j0) * (mean_ms - t0) / (t1 - t0))
-    })
+    super::interpolate::linear_at(curve, mean_ms, super::interpolate::Ties::Mean)
 }
 
 /// Whether a policy is one of acuity's tuned schedulers, compared with

@@ -479,23 +479,7 @@ pub fn triangles_at_equal(curve: &[(f64, f64)], value: f64, measure: ErrorMeasur
 /// value among them (the comparison a policy must pass is against the
 /// best the curve shows at that JOD).
 pub fn local_p999_at_equal_jod(curve: &[(f64, f64)], jod: f64) -> Option<f64> {
-    if !jod.is_finite() {
-        return None;
-    }
-    let mut pts: Vec<(f64, f64)> = curve
-        .iter()
-        .copied()
-        .filter(|(j, l)| j.is_finite() && l.is_finite())
-        .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    pts.dedup_by(|b, a| a.0 == b.0);
-    if let Some(&(_, l)) = pts.iter().find(|p| p.0 == jod) {
-        return Some(l);
-    }
-    pts.windows(2).find_map(|w| {
-        let ((j0, l0), (j1, l1)) = (w[0], w[1]);
-        (j0 < jod && jod < j1).then(|| l0 + (l1 - l0) * (jod - j0) / (j1 - j0))
-    })
+    super::interpolate::linear_at(curve, jod, super::interpolate::Ties::Lowest)
 }
 
 /// [`triangles_at_equal`] for mean FLIP.

@@ -7,6 +7,7 @@
 mod equal_time;
 mod error_curve;
 mod framerate;
+mod interpolate;
 mod speedup;
 
 use std::path::{Path, PathBuf};
