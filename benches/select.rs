@@ -27,7 +27,9 @@
 //! selection every frame. `single_thread_just_imperceptible` (1e5 and
 //! 1e6) is [`SelectorSettings::just_imperceptible`] at `s = 1`: the
 //! calibrated budget (on this display's field of view) and the steady
-//! switch rules, as shipped.
+//! switch rules, as shipped; `single_thread_just_imperceptible_halved`
+//! the same at `s = 0.5` (the triangles that `s` draws spent best effort,
+//! then the budget on top: a scheduler's frame).
 //!
 //! `cargo bench --bench select`; criterion prints the time per cycle and
 //! the throughput in objects per second (ns per object = 1000 / Melem/s).
@@ -36,8 +38,8 @@
 mod common;
 
 use acuity::{
-    BudgetRule, Camera, Display, FrameInput, Gaze, ObjectDesc, ObjectId, ScaleRule, Selector,
-    SelectorSettings, SimdLevel, Tracker, VisibilityBudget,
+    BudgetRule, Camera, Display, FrameInput, Gaze, IMPERCEPTIBLE_VISIBILITY_DEG, ObjectDesc,
+    ObjectId, ScaleRule, Selector, SelectorSettings, SimdLevel, Tracker, VisibilityBudget,
 };
 use common::{Rng, four_lod_profile};
 use criterion::{
@@ -65,12 +67,17 @@ enum Extras {
     /// [`SelectorSettings::just_imperceptible`] at `s = 1`: the calibrated
     /// visibility budget and the steady switch rules.
     JustImperceptible,
+    /// [`SelectorSettings::just_imperceptible`] at `s = 0.5`.
+    JustImperceptibleHalved,
 }
 
 fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector, Vec<ObjectId>) {
     let adjusted = extras == Extras::Adjusted;
     let display = Display::new([1920, 1080], [90.0, 58.7]).unwrap();
-    let base = if extras == Extras::JustImperceptible {
+    let base = if matches!(
+        extras,
+        Extras::JustImperceptible | Extras::JustImperceptibleHalved
+    ) {
         SelectorSettings::just_imperceptible()
     } else {
         SelectorSettings::default()
@@ -90,7 +97,7 @@ fn scene(n: usize, parallel: bool, simd: SimdLevel, extras: Extras) -> (Selector
             base.scale_rule
         },
         visibility_budget: if extras == Extras::Pooled {
-            VisibilityBudget::Deg(12.0)
+            VisibilityBudget::Deg(IMPERCEPTIBLE_VISIBILITY_DEG)
         } else {
             base.visibility_budget
         },
@@ -216,6 +223,12 @@ fn bench_select(c: &mut Criterion) {
                 SimdLevel::Widest,
                 Extras::JustImperceptible,
             ),
+            (
+                "single_thread_just_imperceptible_halved",
+                false,
+                SimdLevel::Widest,
+                Extras::JustImperceptibleHalved,
+            ),
         ] {
             let wanted = match extras {
                 Extras::None => true,
@@ -223,7 +236,8 @@ fn bench_select(c: &mut Criterion) {
                 | Extras::Budget(_)
                 | Extras::BudgetedScale
                 | Extras::Pooled
-                | Extras::JustImperceptible => n >= 100_000,
+                | Extras::JustImperceptible
+                | Extras::JustImperceptibleHalved => n >= 100_000,
                 Extras::Adjusted => n == 100_000,
             };
             if !wanted {
@@ -253,7 +267,7 @@ fn bench_select(c: &mut Criterion) {
                             sel.select_within_budget(frame, budget).unwrap();
                         }
                     }
-                    Extras::BudgetedScale => {
+                    Extras::BudgetedScale | Extras::JustImperceptibleHalved => {
                         for frame in &halved {
                             sel.select(frame).unwrap();
                         }

@@ -682,15 +682,33 @@ fn a_visibility_budget_spends_its_degrees_at_s_1_and_no_more() {
 }
 
 #[test]
-fn below_s_1_a_visibility_budget_never_draws_more_than_the_budget_from_s() {
+fn below_s_1_a_visibility_budget_spends_its_degrees_beyond_the_triangles_from_s() {
+    let budget_deg = 8.0;
     let frame = frame_at(DVec3::ZERO, 0.016);
-    for scale in [0.7, 0.3, 0.1] {
+    let (mut at_one, _) = random_scene(visibility_budgeted(budget_deg), 2000, 9, DVec3::ZERO);
+    at_one.select(&frame).unwrap();
+    let mut above = at_one.triangles();
+    let spent = |sel: &Selector| sel.selection_visibility_deg().unwrap();
+    for scale in [0.9, 0.7, 0.4, 0.2, 0.1] {
         let frame = with_scale(frame, scale);
         let (mut off, _) = random_scene(budgeted_scale(), 2000, 9, DVec3::ZERO);
-        let (mut on, _) = random_scene(visibility_budgeted(8.0), 2000, 9, DVec3::ZERO);
+        let (mut on, _) = random_scene(visibility_budgeted(budget_deg), 2000, 9, DVec3::ZERO);
         off.select(&frame).unwrap();
         on.select(&frame).unwrap();
-        assert!(on.triangles() <= off.triangles(), "s = {scale}");
+        // Not `s = 1`'s selection again while the budget from `s` is
+        // looser: a lower `s` always draws fewer triangles.
+        assert!(
+            on.triangles() < above,
+            "s = {scale}: {} triangles, {above} at the s above",
+            on.triangles()
+        );
+        assert!(on.triangles() < off.triangles(), "s = {scale}: none spent");
+        let beyond_deg = spent(&on) - spent(&off);
+        assert!(
+            beyond_deg > 0.0 && beyond_deg <= f64::from(budget_deg) * 1.001,
+            "s = {scale}: {beyond_deg} deg beyond the budget from s alone"
+        );
+        above = on.triangles();
     }
 }
 

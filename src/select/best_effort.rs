@@ -30,17 +30,24 @@
 //! 18th of an octave each), the bin where they reach what the budget needs
 //! is found, every step below it is taken and, within it, steps in object
 //! order until the triangles fit. Three passes over the objects; the
-//! first keeps each object's steps for the other two, in buffers whose
+//! first keeps each object's steps for the others, in buffers whose
 //! capacity is kept between frames (no allocation once they have grown).
 //!
 //! A visibility budget
 //! ([`SelectorSettings::visibility_budget`](super::SelectorSettings::visibility_budget),
 //! under a budget from `s`) lets the greedy go on once the triangles fit:
 //! each step's added visibility (`theta ln v` at its LOD less the object's
-//! at the LOD before, deg) is binned beside its saving, and steps are
-//! taken in the same order while their sum stays within the budget.
-//! Visible differences add up over an image, so this bounds the image's
-//! difference rather than each object's alone.
+//! at the LOD before, deg) is binned beside its saving, and the steps left
+//! are taken in the same order while the visibility they add stays within
+//! the budget. Visible differences add up over an image, so this bounds
+//! the image's difference rather than each object's alone. The budget
+//! comes on top of what the triangles from `s` needed, so a lower `s`
+//! draws fewer triangles than a higher one all the way down from `s = 1`
+//! (were it counted from full detail, every `s` whose triangles `s = 1`'s
+//! selection already fits would draw that selection again, and a scheduler
+//! turning `s` would move nothing). When the triangles needed steps too,
+//! the last pass that takes them bins the visibility of the steps left,
+//! and two more passes take the allowance's.
 //!
 //! Hysteresis: a step the object had already taken in the previous frame
 //! costs [`SelectorSettings::budget_hysteresis`](super::SelectorSettings::budget_hysteresis)
@@ -93,6 +100,16 @@ pub(super) struct ChainStep {
     visibility_deg: f32,
 }
 
+/// What [`Selector::take_steps`] takes: every kept step in a bin below
+/// `threshold`, and in it those that bring the triangles to
+/// `triangle_budget` or whose added visibility fits `allowance_deg`.
+#[derive(Clone, Copy, Debug)]
+struct Take {
+    threshold: usize,
+    triangle_budget: u64,
+    allowance_deg: f32,
+}
+
 /// Bins of the cost histogram: bin 0 holds costs of 0 (steps at the edge
 /// of visibility), the rest [`BINS_PER_OCTAVE`] a binary octave from
 /// `2^LOWEST_OCTAVE`.
@@ -140,8 +157,8 @@ impl Selector {
     /// (writing their selections, before LOD ranges are applied) so that
     /// the triangles fit `triangle_budget` where the steps allowed reach
     /// it, cheapest step first (see the module docs), taking no step that
-    /// needs `s` below `s_min` (in `(0, s_max]`); then, while the steps'
-    /// added visibility (`theta ln v`, summed) stays within
+    /// needs `s` below `s_min` (in `(0, s_max]`); then, while the
+    /// visibility they add (`theta ln v`, summed) stays within
     /// `allowance_deg`, the next cheapest steps too (an allowance not
     /// `> 0`, NaN included, is none). Returns the scale
     /// reached and the triangles drawn (LOD ranges counted).
@@ -224,84 +241,135 @@ impl Selector {
         }
         chain_start.push(chains.len() as u32);
         let mut reached = s_max;
-        if triangles > triangle_budget || allowance_deg > 0.0 {
-            let needed = triangles.saturating_sub(triangle_budget);
+        let needed = triangles.saturating_sub(triangle_budget);
+        if needed > 0 {
             let mut cumulative = 0u64;
-            let for_triangles = if needed == 0 {
-                0
-            } else {
-                saved_by_bin
-                    .iter()
-                    .position(|&s| {
-                        cumulative += s;
-                        cumulative >= needed
-                    })
-                    .unwrap_or(BINS)
+            let threshold = saved_by_bin
+                .iter()
+                .position(|&s| {
+                    cumulative += s;
+                    cumulative >= needed
+                })
+                .unwrap_or(BINS);
+            let take = Take {
+                threshold,
+                triangle_budget,
+                allowance_deg: 0.0,
             };
+            // The visibility of the steps left, for the allowance.
+            let left = (allowance_deg > 0.0).then_some(&mut visibility_by_bin);
+            self.take_steps(
+                &chains,
+                &chain_start,
+                take,
+                &mut triangles,
+                &mut reached,
+                left,
+            );
+        }
+        // Once the triangles fit, the allowance buys the next cheapest
+        // steps on top: a budget from `s < 1` spends it beyond the
+        // triangles `s` sets, so a lower `s` never draws `s = 1`'s
+        // selection again.
+        if allowance_deg > 0.0 {
             let mut shown = 0.0f32;
-            let for_visibility = if allowance_deg > 0.0 {
-                visibility_by_bin
-                    .iter()
-                    .position(|&v| {
-                        shown += v;
-                        shown > allowance_deg
-                    })
-                    .unwrap_or(BINS)
-            } else {
-                0
+            let threshold = visibility_by_bin
+                .iter()
+                .position(|&v| {
+                    shown += v;
+                    shown > allowance_deg
+                })
+                .unwrap_or(BINS);
+            let take = Take {
+                threshold,
+                triangle_budget: u64::MAX,
+                allowance_deg,
             };
-            let threshold = for_triangles.max(for_visibility);
-            let mut added_deg = 0.0f32;
-            // Pass 2: every step below the threshold's bin (all of them
-            // are needed, or fit the allowance); pass 3: in it, steps in
-            // object order while the triangles do not fit or the step's
-            // visibility fits what is left of the allowance. Both read
-            // the chains pass 1 kept: a step left after pass 2 lies in
-            // the threshold's bin or above, so the running maximum it
-            // kept is its own cost or a later step's, as from its LOD.
-            for below in [true, false] {
-                for slot in 0..multi {
-                    let entry = self.budget[slot];
-                    if entry.row == u32::MAX {
-                        continue;
-                    }
-                    let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
-                    let lod = self.selections[slot].0 as usize;
-                    if chain
-                        .last()
-                        .is_none_or(|step| usize::from(step.to_lod) <= lod)
-                    {
-                        continue;
-                    }
-                    let p = self.object_profiles[slot] as usize;
-                    let mut shown_deg = self.visibility_at(&entry, p, lod);
-                    for step in chain.iter().filter(|step| usize::from(step.to_lod) > lod) {
-                        let bin = usize::from(step.bin);
-                        let adds_deg = (step.visibility_deg - shown_deg).max(0.0);
-                        let take = if below {
-                            bin < threshold
-                        } else {
-                            bin == threshold
-                                && (triangles > triangle_budget
-                                    || (allowance_deg > 0.0
-                                        && added_deg + adds_deg <= allowance_deg))
-                        };
-                        if !take {
-                            break;
-                        }
-                        added_deg += adds_deg;
-                        shown_deg = shown_deg.max(step.visibility_deg);
-                        triangles -= u64::from(step.saved);
-                        reached = reached.min(step.scale);
-                        self.selections[slot] = Selection(step.to_lod);
-                    }
-                }
-            }
+            self.take_steps(
+                &chains,
+                &chain_start,
+                take,
+                &mut triangles,
+                &mut reached,
+                None,
+            );
         }
         self.chains = chains;
         self.chain_start = chain_start;
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
+    }
+
+    /// Takes the kept steps `take` allows (every step in a bin below its
+    /// threshold; in that bin, steps in object order while the triangles
+    /// are over its budget or the step's added visibility fits what is
+    /// left of its allowance), from each object's selection on; lowers
+    /// `triangles` and `reached` (the lowest `s` a taken step needs).
+    /// With `remaining_by_bin`, bins there by cost the added visibility
+    /// (deg) of the steps left.
+    /// Reads the chains pass 1 kept: a step not yet taken lies in the
+    /// threshold's bin or above, so the running maximum it kept is its own
+    /// cost or a later step's, as from its LOD.
+    fn take_steps(
+        &mut self,
+        chains: &[ChainStep],
+        chain_start: &[u32],
+        take: Take,
+        triangles: &mut u64,
+        reached: &mut f32,
+        mut remaining_by_bin: Option<&mut [f32; BINS]>,
+    ) {
+        if let Some(bins) = remaining_by_bin.as_deref_mut() {
+            bins.fill(0.0);
+        }
+        let mut added_deg = 0.0f32;
+        for below in [true, false] {
+            for slot in 0..self.multi() {
+                let entry = self.budget[slot];
+                if entry.row == u32::MAX {
+                    continue;
+                }
+                let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
+                let lod = self.selections[slot].0 as usize;
+                if chain
+                    .last()
+                    .is_none_or(|step| usize::from(step.to_lod) <= lod)
+                {
+                    continue;
+                }
+                let p = self.object_profiles[slot] as usize;
+                let mut shown_deg = self.visibility_at(&entry, p, lod);
+                let mut left = chain.iter().filter(|step| usize::from(step.to_lod) > lod);
+                let mut not_taken = None;
+                for step in left.by_ref() {
+                    let bin = usize::from(step.bin);
+                    let adds_deg = (step.visibility_deg - shown_deg).max(0.0);
+                    let taken = if below {
+                        bin < take.threshold
+                    } else {
+                        bin == take.threshold
+                            && (*triangles > take.triangle_budget
+                                || (take.allowance_deg > 0.0
+                                    && added_deg + adds_deg <= take.allowance_deg))
+                    };
+                    if !taken {
+                        not_taken = Some(step);
+                        break;
+                    }
+                    added_deg += adds_deg;
+                    shown_deg = shown_deg.max(step.visibility_deg);
+                    *triangles -= u64::from(step.saved);
+                    *reached = reached.min(step.scale);
+                    self.selections[slot] = Selection(step.to_lod);
+                }
+                if let (false, Some(bins)) = (below, remaining_by_bin.as_deref_mut()) {
+                    for step in not_taken.into_iter().chain(left) {
+                        bins[usize::from(step.bin)] += (step.visibility_deg - shown_deg).max(0.0);
+                        shown_deg = shown_deg.max(step.visibility_deg);
+                    }
+                }
+            }
+        }
     }
 
     /// The cost factor of the steps beyond the LOD the object in `slot` had

@@ -194,7 +194,9 @@ pub struct SelectorSettings {
     /// at `s = 1`, in best effort's measure
     /// ([`Selector::selection_visibility_deg`]): at every `s`, once the
     /// triangles from `s` fit, best effort keeps taking its cheapest steps
-    /// per triangle saved while their summed visibility stays within it.
+    /// per triangle saved while the visibility they add stays within it
+    /// (on top of what the triangles from `s` cost, so a lower `s` always
+    /// draws fewer triangles).
     /// Visible differences add up over an image, and an image-level metric
     /// (FovVideoVDP) loses about as much per degree of this measure on
     /// every scene measured, where one `s` costs each scene differently;
