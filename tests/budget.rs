@@ -730,6 +730,11 @@ proptest::proptest! {
         off.select(&frame).unwrap();
         on.select(&frame).unwrap();
         proptest::prop_assert!(on.triangles() <= off.triangles(), "{} deg at s = {}", budget_deg, scale);
+        // Monotone in `s`: lower never draws more (a fresh selector, so no
+        // switch rule carries the higher `s`'s LODs over).
+        let (mut lower, _) = random_scene(visibility_budgeted(budget_deg), 300, seed, DVec3::ZERO);
+        lower.select(&with_scale(frame_at(DVec3::ZERO, 0.016), scale * 0.8)).unwrap();
+        proptest::prop_assert!(lower.triangles() <= on.triangles(), "{} deg: s = {} drew {}, {} at s = {}", budget_deg, scale * 0.8, lower.triangles(), on.triangles(), scale);
         if let Some(v) = on.selection_visibility_deg() {
             proptest::prop_assert!(v.is_finite() && v >= 0.0, "{} deg shown", v);
         }

@@ -44,10 +44,36 @@
  * `AcuitySettings::visibility_budget_deg` for the runtime's calibration
  * of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
  * over the whole image, in proportion to the display's field of view
- * (16 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`, which
- * also sets the steady switch rules it was calibrated with).
+ * (`ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG` on 43.6 x 33.4 deg;
+ * `acuity_settings_just_imperceptible`, which also sets the steady switch
+ * rules it was calibrated with).
  */
 #define ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE -1.0
+
+/**
+ * The runtime's calibrated visibility budget on a field of view of
+ * 43.6 x 33.4 deg, deg (`IMPERCEPTIBLE_VISIBILITY_DEG`).
+ */
+#define ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG 16.0
+
+/**
+ * The steady switch rules (`acuity_settings_just_imperceptible` and the
+ * command line's scheduled policies): `AcuitySettings::switch_hysteresis`
+ * (the runtime's `STEADY_SWITCH_HYSTERESIS`).
+ */
+#define ACUITY_STEADY_SWITCH_HYSTERESIS 0.15
+
+/**
+ * The steady switch rules' `AcuitySettings::switch_min_dwell_s`, s
+ * (`STEADY_SWITCH_MIN_DWELL_S`).
+ */
+#define ACUITY_STEADY_SWITCH_MIN_DWELL_S 0.3
+
+/**
+ * The steady switch rules' `AcuitySettings::switch_coarsen_delay_s`, s
+ * (`STEADY_SWITCH_COARSEN_DELAY_S`).
+ */
+#define ACUITY_STEADY_SWITCH_COARSEN_DELAY_S 0.5
 
 /**
  * `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
@@ -590,9 +616,12 @@ enum AcuityStatus acuity_profile_free(struct AcuityProfile *profile);
  * `acuity_scheduler_observe` with the frame's measured time after it was
  * drawn. For the budgeted spending of `s` (no reversals under the
  * reactive scheduler) create the selector with `budgeted_scale`; for
- * flicker-free switching, set `switch_min_dwell_s` (0.3 s),
- * `switch_coarsen_delay_s` (0.5 s) and `switch_hysteresis` (0.15), as the
- * command line's scheduled policies do.
+ * flicker-free switching, set `switch_min_dwell_s`,
+ * `switch_coarsen_delay_s` and `switch_hysteresis` to the steady switch
+ * rules (`ACUITY_STEADY_SWITCH_MIN_DWELL_S`,
+ * `ACUITY_STEADY_SWITCH_COARSEN_DELAY_S`,
+ * `ACUITY_STEADY_SWITCH_HYSTERESIS`), as the command line's scheduled
+ * policies do.
  *
  * # Safety
  * `out` must be NULL (refused) or valid for writing a pointer.
@@ -919,8 +948,9 @@ enum AcuityStatus acuity_settings_default(struct AcuitySettings *out);
  * Writes the default settings with `s = 1` just imperceptible over the
  * whole image into `*out`: `budgeted_scale` 1, `visibility_budget_deg`
  * `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` and the steady switch rules the
- * budget was calibrated with (`switch_hysteresis` 0.15,
- * `switch_min_dwell_s` 0.3, `switch_coarsen_delay_s` 0.5): fewer
+ * budget was calibrated with (`ACUITY_STEADY_SWITCH_HYSTERESIS`,
+ * `ACUITY_STEADY_SWITCH_MIN_DWELL_S`,
+ * `ACUITY_STEADY_SWITCH_COARSEN_DELAY_S`): fewer
  * triangles at `s = 1`, still imperceptible, for a budgeted selection per
  * frame (about ten times the plain selection's cost per object).
  *

@@ -95,10 +95,11 @@ pub use selector::{
     acuity_selector_set_scale, acuity_selector_stats,
 };
 pub use types::{
-    ACUITY_LOD_CULLED, ACUITY_NO_BUDGET, ACUITY_NO_OBJECT, ACUITY_SCHEDULER_PREDICTIVE,
-    ACUITY_SCHEDULER_REACTIVE, ACUITY_TRACKER_EYE, ACUITY_TRACKER_HEAD, ACUITY_TRACKER_NONE,
-    ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE, AcuityChange, AcuityDisplay, AcuityFade, AcuityFrame,
-    AcuityObject, AcuityObjectDesc, AcuityProfileInfo, AcuityQuat, AcuitySchedulerState,
-    AcuitySettings, AcuityStats, AcuityVec3d, AcuityVec3f, acuity_frame_default,
-    acuity_settings_default, acuity_settings_just_imperceptible,
+    ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG, ACUITY_LOD_CULLED, ACUITY_NO_BUDGET, ACUITY_NO_OBJECT,
+    ACUITY_SCHEDULER_PREDICTIVE, ACUITY_SCHEDULER_REACTIVE, ACUITY_STEADY_SWITCH_COARSEN_DELAY_S,
+    ACUITY_STEADY_SWITCH_HYSTERESIS, ACUITY_STEADY_SWITCH_MIN_DWELL_S, ACUITY_TRACKER_EYE,
+    ACUITY_TRACKER_HEAD, ACUITY_TRACKER_NONE, ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE, AcuityChange,
+    AcuityDisplay, AcuityFade, AcuityFrame, AcuityObject, AcuityObjectDesc, AcuityProfileInfo,
+    AcuityQuat, AcuitySchedulerState, AcuitySettings, AcuityStats, AcuityVec3d, AcuityVec3f,
+    acuity_frame_default, acuity_settings_default, acuity_settings_just_imperceptible,
 };

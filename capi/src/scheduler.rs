@@ -39,9 +39,12 @@ enum Inner {
 /// `acuity_scheduler_observe` with the frame's measured time after it was
 /// drawn. For the budgeted spending of `s` (no reversals under the
 /// reactive scheduler) create the selector with `budgeted_scale`; for
-/// flicker-free switching, set `switch_min_dwell_s` (0.3 s),
-/// `switch_coarsen_delay_s` (0.5 s) and `switch_hysteresis` (0.15), as the
-/// command line's scheduled policies do.
+/// flicker-free switching, set `switch_min_dwell_s`,
+/// `switch_coarsen_delay_s` and `switch_hysteresis` to the steady switch
+/// rules (`ACUITY_STEADY_SWITCH_MIN_DWELL_S`,
+/// `ACUITY_STEADY_SWITCH_COARSEN_DELAY_S`,
+/// `ACUITY_STEADY_SWITCH_HYSTERESIS`), as the command line's scheduled
+/// policies do.
 ///
 /// # Safety
 /// `out` must be NULL (refused) or valid for writing a pointer.

@@ -21,9 +21,27 @@ pub const ACUITY_NO_BUDGET: u64 = u64::MAX;
 /// `AcuitySettings::visibility_budget_deg` for the runtime's calibration
 /// of `s = 1`: the visibility budget that makes `s = 1` just imperceptible
 /// over the whole image, in proportion to the display's field of view
-/// (16 deg on 43.6 x 33.4 deg; `acuity_settings_just_imperceptible`, which
-/// also sets the steady switch rules it was calibrated with).
+/// (`ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG` on 43.6 x 33.4 deg;
+/// `acuity_settings_just_imperceptible`, which also sets the steady switch
+/// rules it was calibrated with).
 pub const ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE: f32 = -1.0;
+
+/// The runtime's calibrated visibility budget on a field of view of
+/// 43.6 x 33.4 deg, deg (`IMPERCEPTIBLE_VISIBILITY_DEG`).
+pub const ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 16.0;
+
+/// The steady switch rules (`acuity_settings_just_imperceptible` and the
+/// command line's scheduled policies): `AcuitySettings::switch_hysteresis`
+/// (the runtime's `STEADY_SWITCH_HYSTERESIS`).
+pub const ACUITY_STEADY_SWITCH_HYSTERESIS: f32 = 0.15;
+
+/// The steady switch rules' `AcuitySettings::switch_min_dwell_s`, s
+/// (`STEADY_SWITCH_MIN_DWELL_S`).
+pub const ACUITY_STEADY_SWITCH_MIN_DWELL_S: f32 = 0.3;
+
+/// The steady switch rules' `AcuitySettings::switch_coarsen_delay_s`, s
+/// (`STEADY_SWITCH_COARSEN_DELAY_S`).
+pub const ACUITY_STEADY_SWITCH_COARSEN_DELAY_S: f32 = 0.5;
 
 /// `acuity_scheduler_new`'s kind: Reddy's reactive controller, which
 /// turns the selector's `s` from the measured frame times.
@@ -393,8 +411,9 @@ pub unsafe extern "C" fn acuity_settings_default(out: *mut AcuitySettings) -> Ac
 /// Writes the default settings with `s = 1` just imperceptible over the
 /// whole image into `*out`: `budgeted_scale` 1, `visibility_budget_deg`
 /// `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE` and the steady switch rules the
-/// budget was calibrated with (`switch_hysteresis` 0.15,
-/// `switch_min_dwell_s` 0.3, `switch_coarsen_delay_s` 0.5): fewer
+/// budget was calibrated with (`ACUITY_STEADY_SWITCH_HYSTERESIS`,
+/// `ACUITY_STEADY_SWITCH_MIN_DWELL_S`,
+/// `ACUITY_STEADY_SWITCH_COARSEN_DELAY_S`): fewer
 /// triangles at `s = 1`, still imperceptible, for a budgeted selection per
 /// frame (about ten times the plain selection's cost per object).
 ///

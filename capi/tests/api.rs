@@ -645,6 +645,35 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
         (calibrated.budgeted_scale, calibrated.visibility_budget_deg),
         (1, ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE)
     );
+    // The header's constants are the runtime's, and what the settings set.
+    assert_eq!(
+        ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG,
+        acuity::IMPERCEPTIBLE_VISIBILITY_DEG
+    );
+    assert_eq!(
+        (
+            calibrated.switch_hysteresis,
+            calibrated.switch_min_dwell_s,
+            calibrated.switch_coarsen_delay_s
+        ),
+        (
+            ACUITY_STEADY_SWITCH_HYSTERESIS,
+            ACUITY_STEADY_SWITCH_MIN_DWELL_S,
+            ACUITY_STEADY_SWITCH_COARSEN_DELAY_S
+        )
+    );
+    assert_eq!(
+        (
+            ACUITY_STEADY_SWITCH_HYSTERESIS,
+            ACUITY_STEADY_SWITCH_MIN_DWELL_S,
+            ACUITY_STEADY_SWITCH_COARSEN_DELAY_S
+        ),
+        (
+            acuity::STEADY_SWITCH_HYSTERESIS,
+            acuity::STEADY_SWITCH_MIN_DWELL_S,
+            acuity::STEADY_SWITCH_COARSEN_DELAY_S
+        )
+    );
     let s = scene(&calibrated, 40);
     expect(select(s, &AcuityFrame::default()), ACUITY_OK);
     let at_edge = triangles(s);
