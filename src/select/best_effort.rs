@@ -242,22 +242,42 @@ impl Selector {
         chain_start.push(chains.len() as u32);
         let mut reached = s_max;
         let needed = triangles.saturating_sub(triangle_budget);
-        if needed > 0 {
-            let mut cumulative = 0u64;
-            let threshold = saved_by_bin
-                .iter()
-                .position(|&s| {
-                    cumulative += s;
-                    cumulative >= needed
-                })
-                .unwrap_or(BINS);
-            let take = Take {
-                threshold,
-                triangle_budget,
-                allowance_deg: 0.0,
+        // First the steps the triangles need; then, once they fit, the
+        // allowance buys the next cheapest steps on top: a budget from
+        // `s < 1` spends it beyond the triangles `s` sets, so a lower `s`
+        // never draws `s = 1`'s selection again.
+        for for_triangles in [true, false] {
+            let take = if for_triangles && needed > 0 {
+                let mut cumulative = 0u64;
+                Take {
+                    threshold: saved_by_bin
+                        .iter()
+                        .position(|&s| {
+                            cumulative += s;
+                            cumulative >= needed
+                        })
+                        .unwrap_or(BINS),
+                    triangle_budget,
+                    allowance_deg: 0.0,
+                }
+            } else if !for_triangles && allowance_deg > 0.0 {
+                let mut shown = 0.0f32;
+                Take {
+                    threshold: visibility_by_bin
+                        .iter()
+                        .position(|&v| {
+                            shown += v;
+                            shown > allowance_deg
+                        })
+                        .unwrap_or(BINS),
+                    triangle_budget: u64::MAX,
+                    allowance_deg,
+                }
+            } else {
+                continue;
             };
             // The visibility of the steps left, for the allowance.
-            let left = (allowance_deg > 0.0).then_some(&mut visibility_by_bin);
+            let left = (for_triangles && allowance_deg > 0.0).then_some(&mut visibility_by_bin);
             self.take_steps(
                 &chains,
                 &chain_start,
@@ -265,33 +285,6 @@ impl Selector {
                 &mut triangles,
                 &mut reached,
                 left,
-            );
-        }
-        // Once the triangles fit, the allowance buys the next cheapest
-        // steps on top: a budget from `s < 1` spends it beyond the
-        // triangles `s` sets, so a lower `s` never draws `s = 1`'s
-        // selection again.
-        if allowance_deg > 0.0 {
-            let mut shown = 0.0f32;
-            let threshold = visibility_by_bin
-                .iter()
-                .position(|&v| {
-                    shown += v;
-                    shown > allowance_deg
-                })
-                .unwrap_or(BINS);
-            let take = Take {
-                threshold,
-                triangle_budget: u64::MAX,
-                allowance_deg,
-            };
-            self.take_steps(
-                &chains,
-                &chain_start,
-                take,
-                &mut triangles,
-                &mut reached,
-                None,
             );
         }
         self.chains = chains;
