@@ -129,6 +129,7 @@ fn experiments_run_small_and_write_their_files() {
     let names: Vec<&str> = rows.map(|r| r.split(',').next().unwrap()).collect();
     for p in [
         "acuity_reactive",
+        "acuity_reactive_pooled",
         "acuity_predictive",
         "screen_size_reactive",
         "acuity_reactive_no_headroom",

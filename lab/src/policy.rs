@@ -51,6 +51,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityPredictiveUnweighted
         | Policy::AcuityReactiveNoHeadroom
         | Policy::AcuityReactiveBudgeted
+        | Policy::AcuityReactivePooled
         | Policy::AcuityAllBudgeted
         | Policy::AcuityAllPooled
         | Policy::AcuityPredictiveAnnounced
@@ -137,9 +138,13 @@ impl PolicyRunner {
         let selector_fades = !(policy == Policy::Full || policy.is_screen_size());
         let scheduled = policy.is_scheduled() && !policy.is_untuned();
         // `acuity_all_pooled` is the runtime's `s = 1` just imperceptible
-        // as shipped; the tuned schedulers add its steady switch rules to
-        // their own settings.
-        let base = if policy == Policy::AcuityAllPooled {
+        // as shipped (`acuity_reactive_pooled` under the reactive
+        // scheduler); the other tuned schedulers add its steady switch
+        // rules to their own settings.
+        let base = if matches!(
+            policy,
+            Policy::AcuityAllPooled | Policy::AcuityReactivePooled
+        ) {
             SelectorSettings::just_imperceptible()
         } else {
             SelectorSettings::default()
@@ -250,6 +255,7 @@ impl PolicyRunner {
         let scheduler = match policy {
             Policy::AcuityReactive
             | Policy::AcuityReactiveBudgeted
+            | Policy::AcuityReactivePooled
             | Policy::ScreenSizeReactive
             | Policy::ScreenSizeReactivePeriod => {
                 Some(Scheduler::Reactive(climbing_reactive(tuned()?, cost)))

@@ -78,11 +78,12 @@ pub struct FramerateArgs {
 }
 
 /// The policies the experiment plays, in report order.
-pub const FRAMERATE_POLICIES: [Policy; 11] = [
+pub const FRAMERATE_POLICIES: [Policy; 12] = [
     Policy::Full,
     Policy::AcuityAll,
     Policy::AcuityReactive,
     Policy::AcuityReactiveBudgeted,
+    Policy::AcuityReactivePooled,
     Policy::AcuityPredictive,
     Policy::AcuityPredictiveAnnounced,
     Policy::AcuityPredictiveUnweighted,

@@ -471,6 +471,11 @@ pub enum Policy {
     /// As [`Policy::AcuityReactive`], the scheduler's `s` spent as a budget
     /// ([`acuity::ScaleRule::Budgeted`]).
     AcuityReactiveBudgeted,
+    /// As [`Policy::AcuityReactiveBudgeted`], with the visibility budget
+    /// of [`Policy::AcuityAllPooled`] on top: the runtime's
+    /// [`acuity::SelectorSettings::just_imperceptible`] under the reactive
+    /// scheduler.
+    AcuityReactivePooled,
     /// As [`Policy::AcuityPredictive`], told of each load spike before its
     /// frames ([`acuity::PredictiveScheduler::announce_load`]): what an
     /// engine that knows its extra work (a shader to compile, a chunk to
@@ -508,7 +513,7 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 12] = [
+    pub const EXTRA: [Policy; 13] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
@@ -520,6 +525,7 @@ impl Policy {
         Policy::AcuityAllBudgeted,
         Policy::AcuityAllPooled,
         Policy::AcuityReactiveBudgeted,
+        Policy::AcuityReactivePooled,
         Policy::AcuityPredictiveAnnounced,
     ];
 
@@ -535,6 +541,7 @@ impl Policy {
                 | Policy::AcuityReactiveNoHeadroom
                 | Policy::AcuityPredictiveNoHeadroom
                 | Policy::AcuityReactiveBudgeted
+                | Policy::AcuityReactivePooled
                 | Policy::AcuityPredictiveAnnounced
                 | Policy::ScreenSizeReactivePeriod
         )
@@ -619,6 +626,7 @@ impl Policy {
             Policy::AcuityAllBudgeted => "acuity_all_budgeted",
             Policy::AcuityAllPooled => "acuity_all_pooled",
             Policy::AcuityReactiveBudgeted => "acuity_reactive_budgeted",
+            Policy::AcuityReactivePooled => "acuity_reactive_pooled",
             Policy::AcuityPredictiveAnnounced => "acuity_predictive_announced",
             Policy::ScreenSizeReactivePeriod => "screen_size_reactive_period",
         }
