@@ -58,7 +58,7 @@ impl Default for AnalysisSettings {
             threshold_delta_e: segment::DEFAULT_THRESHOLD_DELTA_E,
             feret_directions: frequency::DEFAULT_FERET_DIRECTIONS,
             msaa_samples: crate::render::DEFAULT_MSAA_SAMPLES,
-            statistic: FrequencyStatistic::Mean,
+            statistic: FrequencyStatistic::default(),
             background_srgb: [0, 0, 0],
         }
     }

@@ -302,16 +302,12 @@ impl ErrorSweep {
                 // Full detail and screen size are the references, not compared.
                 let compared = !matches!(s.policy, Policy::Full | Policy::ScreenSize);
                 let vs = |curve: &[(f64, f64)], v: f64, m: ErrorMeasure| {
-                    let t = if compared {
-                        triangles_at_equal(curve, v, m)
-                    } else {
-                        None
-                    };
-                    t.map(|t| s.triangles / t)
+                    triangles_at_equal(curve, v, m).map(|t| s.triangles / t)
                 };
+                let flip = Some(s.flip_mean).filter(|_| compared);
                 let jod = s.jod.filter(|_| compared);
                 ErrorRow {
-                    vs_screen_size_flip: vs(&flip_curve, s.flip_mean, ErrorMeasure::Flip),
+                    vs_screen_size_flip: flip.and_then(|f| vs(&flip_curve, f, ErrorMeasure::Flip)),
                     vs_screen_size_jod: jod.and_then(|j| vs(&jod_curve, j, ErrorMeasure::Jod)),
                     screen_size_local_p999: jod
                         .and_then(|j| local_p999_at_equal_jod(&local_curve, j)),
