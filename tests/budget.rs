@@ -380,6 +380,100 @@ fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_hel
     }
 }
 
+#[test]
+fn under_a_given_budget_the_big_saver_goes_back_on_a_refinement_only_where_nothing_else_meets_it() {
+    let settings = SelectorSettings {
+        switch_min_dwell_s: 0.25,
+        ..SelectorSettings::default()
+    };
+    let (mut sel, a, _) = big_and_small_saver(settings, 60.0);
+    let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
+    let mut lod_within = |budget: u64| {
+        let out = sel.select_within_budget(&frame, budget).unwrap();
+        assert!(out.within_budget, "{budget}: {out:?}");
+        sel.selection(a).lod()
+    };
+    assert_eq!(lod_within(10_000), Some(0));
+    assert_eq!(lod_within(1100), Some(1));
+    // Held after the coarsening, then back to LOD 0.
+    for _ in 0..3 {
+        assert_eq!(lod_within(10_000), Some(1));
+    }
+    assert_eq!(lod_within(10_000), Some(0));
+    // Within the dwell time after that refinement, a budget nothing can
+    // meet (the coarsest LODs draw 1060) takes no held step: it would buy
+    // no frame on time.
+    let out = sel.select_within_budget(&frame, 10).unwrap();
+    assert!(!out.within_budget, "{out:?}");
+    assert_eq!(
+        sel.selection(a).lod(),
+        Some(0),
+        "a held step bought nothing"
+    );
+    // Only the big saver's step meets this one (4100 triangles at LOD 0,
+    // or 4060, against 1100): the given budget wins over the dwell time.
+    let out = sel.select_within_budget(&frame, 1100).unwrap();
+    assert!(out.within_budget, "{out:?}");
+    assert_eq!(
+        sel.selection(a).lod(),
+        Some(1),
+        "the held step was not taken"
+    );
+}
+
+#[test]
+fn under_a_given_budget_that_moves_objects_go_back_on_a_refinement_only_after_every_other_step() {
+    // The budget jumps between four shares of the triangles every 7 frames
+    // while the camera turns and advances, so objects refine when it rises
+    // and must coarsen again when it falls within their dwell time. Other
+    // objects' steps meet every budget here, so no object goes back to the
+    // LOD it left within the dwell time (where those steps were only
+    // priced dearer, 52 of 2472 switches did).
+    let dwell_s = 0.3;
+    let settings = SelectorSettings {
+        switch_hysteresis: STEADY_SWITCH_HYSTERESIS,
+        switch_min_dwell_s: dwell_s,
+        ..SelectorSettings::default()
+    };
+    let (mut sel, ids) = random_scene(settings, 400, 3, DVec3::ZERO);
+    // The same objects without a budget, for the triangles at `s = 1`.
+    let (mut plain, _) = random_scene(SelectorSettings::default(), 400, 3, DVec3::ZERO);
+    let dt_s = 1.0 / 36.0;
+    let mut last: Vec<Option<(f32, usize)>> = vec![None; ids.len()];
+    let mut before = vec![None; ids.len()];
+    let (mut switches, mut reversals) = (0, 0);
+    for f in 0..400 {
+        let t_s = f as f32 * dt_s;
+        let mut frame = frame_at(DVec3::new(0.0, 0.0, -0.05 * f as f64), dt_s);
+        frame.camera.orientation = Quat::from_rotation_y(0.5 * (2.0 * t_s).sin());
+        plain.select(&frame).unwrap();
+        let full = plain.triangles();
+        let share = [0.55, 0.65, 0.6, 0.7][(f / 7) % 4];
+        let out = sel
+            .select_within_budget(&frame, (share * full as f64) as u64)
+            .unwrap();
+        assert!(out.within_budget, "frame {f}: {out:?}");
+        for (i, &id) in ids.iter().enumerate() {
+            let now = sel.selection(id).lod();
+            if let (Some(b), Some(n)) = (before[i], now)
+                && b != n
+            {
+                switches += 1;
+                if last[i].is_some_and(|(at, left)| left == n && t_s - at < dwell_s) {
+                    reversals += 1;
+                }
+                last[i] = Some((t_s, b));
+            }
+            before[i] = now;
+        }
+    }
+    assert!(
+        switches > 20,
+        "{switches} switches: the budget did not move"
+    );
+    assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
+}
+
 fn budgeted_scale() -> SelectorSettings {
     SelectorSettings {
         scale_rule: ScaleRule::Budgeted,

@@ -27,7 +27,8 @@
 //! along the object's LODs); taking steps in order of that cost is what a
 //! heap that pops the cheapest available step does, and it needs no heap:
 //! the savings are binned over the logarithm of the cost (1024 bins, an
-//! 18th of an octave each), the bin where they reach what the budget needs
+//! 18th of an octave each; twice that with the held steps' tier below),
+//! the bin where they reach what the budget needs
 //! is found, every step below it is taken and, within it, steps in object
 //! order until the triangles fit. Three passes over the objects; the
 //! first keeps each object's steps for the others, in buffers whose
@@ -54,8 +55,11 @@
 //! less, so that near ties keep last frame's order; with
 //! [`SelectorSettings::switch_min_dwell_s`](super::SelectorSettings::switch_min_dwell_s),
 //! a step beyond last frame's LOD of an object that switched to a finer LOD
-//! less than that ago costs [`DWELL_PENALTY`] times more, so it is taken
-//! only where the budget needs it, and an object that switched to a
+//! less than that ago comes after every other step (its bins lie above
+//! all others', ordered among themselves by cost), so it is taken only
+//! where no other step meets the budget, and not at all where even the
+//! held steps cannot (they would buy no frame on time, only flicker), and
+//! an object that switched to a
 //! coarser one does not go back to a finer LOD until the dwell time has
 //! passed (the greedy starts from last frame's LOD where that is coarser
 //! than the one at the frame's `s`): under a budget that moves, the
@@ -91,7 +95,8 @@ struct Step {
 /// A step of an object's chain as pass 1 found it, for passes 2 and 3.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ChainStep {
-    /// The bin of the chain's running maximum of cost up to this step.
+    /// The chain's running maximum of bins up to this step (the bin of its
+    /// highest cost so far, in the held tier once a step was held).
     bin: u16,
     to_lod: u8,
     saved: u32,
@@ -110,26 +115,28 @@ struct Take {
     allowance_deg: f32,
 }
 
-/// Bins of the cost histogram: bin 0 holds costs of 0 (steps at the edge
-/// of visibility), the rest [`BINS_PER_OCTAVE`] a binary octave from
-/// `2^LOWEST_OCTAVE`.
-const BINS: usize = 1024;
+/// Bins of one tier of the cost histogram: bin 0 holds costs of 0 (steps
+/// at the edge of visibility), the rest [`BINS_PER_OCTAVE`] a binary octave
+/// from `2^LOWEST_OCTAVE`.
+const COST_BINS: usize = 1024;
 const BINS_PER_OCTAVE: f32 = 18.0;
 const LOWEST_OCTAVE: f32 = -40.0;
-
-/// The factor by which a step that would switch an object before its
-/// dwell time is dearer: ten octaves of cost.
-pub const DWELL_PENALTY: f32 = 1024.0;
+/// Bins of the histogram: two tiers of [`COST_BINS`], the second for the
+/// steps that would switch an object back before its dwell time.
+const BINS: usize = 2 * COST_BINS;
 
 impl Step {
-    /// The step's cost: times `keep_factor` when it leads to a LOD no
-    /// finer than `kept_lod` (taken last frame), times `beyond_factor`
-    /// otherwise.
-    fn cost_given(&self, kept_lod: usize, keep_factor: f32, beyond_factor: f32) -> f32 {
+    /// The step's bin: its cost, times `keep_factor` when it leads to a LOD
+    /// no finer than `kept_lod` (taken last frame); in the second tier when
+    /// it goes beyond `kept_lod` and `held_beyond` (the object switched to
+    /// a finer LOD within the dwell time).
+    fn bin_given(&self, kept_lod: usize, keep_factor: f32, held_beyond: bool) -> usize {
         if usize::from(self.to_lod) <= kept_lod {
-            self.cost * keep_factor
+            bin_of(self.cost * keep_factor)
+        } else if held_beyond {
+            COST_BINS + bin_of(self.cost)
         } else {
-            self.cost * beyond_factor
+            bin_of(self.cost)
         }
     }
 }
@@ -141,15 +148,16 @@ fn margin(k_cdiam: f32, q_cdiam: f32) -> f32 {
     (k_cdiam / q_cdiam).max(1.0).ln()
 }
 
+/// The bin of `cost` within one tier, in `[0, COST_BINS)`.
 fn bin_of(cost: f32) -> usize {
     if cost.is_nan() {
-        return BINS - 1;
+        return COST_BINS - 1;
     }
     if cost <= 0.0 {
         return 0;
     }
     let b = (cost.log2() - LOWEST_OCTAVE) * BINS_PER_OCTAVE + 1.0;
-    (b.max(1.0) as usize).min(BINS - 1)
+    (b.max(1.0) as usize).min(COST_BINS - 1)
 }
 
 impl Selector {
@@ -212,11 +220,19 @@ impl Selector {
                 let last = self.profiles[p].lod_count - 1;
                 lod = lod.max(self.kept_lod(slot).min(last));
             }
+            // Within the dwell time after a refinement, a given budget
+            // starts from the LOD drawn last frame where `s_max` asks for a
+            // coarser one: going back is a held step like any other.
+            let held = self.held_beyond(slot, dwell_s);
+            if held && !strict_dwell {
+                let drawn = self.previous.get(slot).and_then(|s| s.lod());
+                lod = drawn.map_or(lod, |drawn| lod.min(drawn));
+            }
             self.selections[slot] = Selection(lod as u8);
             let adjust = adjust_of(slot);
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
-            let mut cost = 0.0f32;
-            let (kept, beyond) = (self.kept_lod(slot), self.beyond_factor(slot, dwell_s));
+            let mut bin = 0;
+            let kept = self.kept_lod(slot);
             let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
             if next.is_none() {
@@ -224,8 +240,7 @@ impl Selector {
             }
             let mut shown_deg = self.visibility_at(&entry, p, lod);
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
-                cost = cost.max(step.cost_given(kept, keep_factor, beyond));
-                let bin = bin_of(cost);
+                bin = bin.max(step.bin_given(kept, keep_factor, held));
                 saved_by_bin[bin] += u64::from(step.saved);
                 visibility_by_bin[bin] += (step.visibility_deg - shown_deg).max(0.0);
                 shown_deg = shown_deg.max(step.visibility_deg);
@@ -249,15 +264,20 @@ impl Selector {
         for for_triangles in [true, false] {
             let take = if for_triangles && needed > 0 {
                 let mut cumulative = 0u64;
+                let threshold = saved_by_bin.iter().position(|&s| {
+                    cumulative += s;
+                    cumulative >= needed
+                });
+                // Where even the held steps cannot meet the budget, they
+                // would buy no frame on time: every other step is taken,
+                // and no held one.
                 Take {
-                    threshold: saved_by_bin
-                        .iter()
-                        .position(|&s| {
-                            cumulative += s;
-                            cumulative >= needed
-                        })
-                        .unwrap_or(BINS),
-                    triangle_budget,
+                    threshold: threshold.unwrap_or(COST_BINS),
+                    triangle_budget: if threshold.is_some() {
+                        triangle_budget
+                    } else {
+                        u64::MAX
+                    },
                     allowance_deg: 0.0,
                 }
             } else if !for_triangles && allowance_deg > 0.0 {
@@ -365,15 +385,10 @@ impl Selector {
         }
     }
 
-    /// The cost factor of the steps beyond the LOD the object in `slot` had
-    /// last frame: [`DWELL_PENALTY`] when it switched to a finer LOD less
-    /// than `dwell_s` ago, else 1.
-    fn beyond_factor(&self, slot: usize, dwell_s: f32) -> f32 {
-        if self.reverses_within(slot, dwell_s, false) {
-            DWELL_PENALTY
-        } else {
-            1.0
-        }
+    /// Whether the steps beyond the LOD the object in `slot` had last frame
+    /// would go back on its switch to a finer LOD less than `dwell_s` ago.
+    fn held_beyond(&self, slot: usize, dwell_s: f32) -> bool {
+        self.reverses_within(slot, dwell_s, false)
     }
 
     /// The coarsest LOD the greedy may step the object in `slot` to: with

@@ -231,8 +231,8 @@ pub struct SelectorSettings {
     /// coarsened a frame ago coarsens further at once (a scheduler lowering
     /// `s` frame after frame sees each step in the next frame's time).
     /// Under [`Selector::select_within_budget`], best effort takes a step
-    /// that would go back on a refinement before then only where the
-    /// budget needs it (it prices it 1024 times dearer), such a coarsening
+    /// that would go back on a refinement before then only after every
+    /// other step, where no other meets the budget, such a coarsening
     /// waits only while the budget has room for the finer LOD it keeps,
     /// and an object that coarsened does not switch back to a finer LOD
     /// before then either (under a budget that moves, undoing a coarsening
