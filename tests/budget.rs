@@ -474,6 +474,41 @@ fn under_a_given_budget_that_moves_objects_go_back_on_a_refinement_only_after_ev
     assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
 }
 
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, failure_persistence: None, ..Default::default() })]
+
+    /// The steady switch rules only reorder a given budget's steps (held
+    /// ones last) and keep coarser LODs: every budget that the same
+    /// objects without them meet is met.
+    #[test]
+    fn with_the_steady_switch_rules_a_given_budget_is_met_wherever_it_is_without_them(
+        seed in 0u64..1000,
+        shares in proptest::collection::vec(0.0f64..1.2, 1..16),
+    ) {
+        let settings = SelectorSettings {
+            switch_hysteresis: STEADY_SWITCH_HYSTERESIS,
+            switch_min_dwell_s: STEADY_SWITCH_MIN_DWELL_S,
+            switch_coarsen_delay_s: STEADY_SWITCH_COARSEN_DELAY_S,
+            ..SelectorSettings::default()
+        };
+        let (mut sel, _) = random_scene(settings, 200, seed, DVec3::ZERO);
+        let (mut plain, _) = random_scene(SelectorSettings::default(), 200, seed, DVec3::ZERO);
+        for (f, share) in shares.iter().enumerate() {
+            let mut frame = frame_at(DVec3::new(0.0, 0.0, -0.1 * f as f64), 1.0 / 30.0);
+            frame.camera.orientation = Quat::from_rotation_y(0.2 * f as f32);
+            plain.select(&frame).unwrap();
+            let budget = (share * plain.triangles() as f64) as u64;
+            let without = plain.select_within_budget(&frame, budget).unwrap();
+            let with = sel.select_within_budget(&frame, budget).unwrap();
+            proptest::prop_assert!(
+                with.within_budget || !without.within_budget,
+                "frame {}: {:?} against {:?}", f, with, without
+            );
+            proptest::prop_assert_eq!(with.triangles, sel.triangles());
+        }
+    }
+}
+
 fn budgeted_scale() -> SelectorSettings {
     SelectorSettings {
         scale_rule: ScaleRule::Budgeted,
