@@ -438,7 +438,32 @@ fn under_a_given_budget_that_moves_objects_go_back_on_a_refinement_only_after_ev
     let (mut sel, ids) = random_scene(settings, 400, 3, DVec3::ZERO);
     // The same objects without a budget, for the triangles at `s = 1`.
     let (mut plain, _) = random_scene(SelectorSettings::default(), 400, 3, DVec3::ZERO);
+    let (switches, reversals) = switches_and_reversals(&mut sel, &ids, dwell_s, |sel, frame, f| {
+        plain.select(&frame).unwrap();
+        let share = [0.55, 0.65, 0.6, 0.7][(f / 7) % 4];
+        let budget = (share * plain.triangles() as f64) as u64;
+        let out = sel.select_within_budget(&frame, budget).unwrap();
+        assert!(out.within_budget, "frame {f}: {out:?}");
+    });
+    assert!(
+        switches > 20,
+        "{switches} switches: the budget did not move"
+    );
+    assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
+}
+
+/// Plays 400 frames of 1/36 s along a path that advances and turns, `select`
+/// choosing each frame's LODs (given the frame and its index), and counts
+/// the switches and those that went back to the LOD the object left at its
+/// previous switch within `dwell_s`.
+fn switches_and_reversals(
+    sel: &mut Selector,
+    ids: &[ObjectId],
+    dwell_s: f32,
+    mut select: impl FnMut(&mut Selector, FrameInput, usize),
+) -> (usize, usize) {
     let dt_s = 1.0 / 36.0;
+    // Per object: the time of its last switch and the LOD it left.
     let mut last: Vec<Option<(f32, usize)>> = vec![None; ids.len()];
     let mut before = vec![None; ids.len()];
     let (mut switches, mut reversals) = (0, 0);
@@ -446,13 +471,7 @@ fn under_a_given_budget_that_moves_objects_go_back_on_a_refinement_only_after_ev
         let t_s = f as f32 * dt_s;
         let mut frame = frame_at(DVec3::new(0.0, 0.0, -0.05 * f as f64), dt_s);
         frame.camera.orientation = Quat::from_rotation_y(0.5 * (2.0 * t_s).sin());
-        plain.select(&frame).unwrap();
-        let full = plain.triangles();
-        let share = [0.55, 0.65, 0.6, 0.7][(f / 7) % 4];
-        let out = sel
-            .select_within_budget(&frame, (share * full as f64) as u64)
-            .unwrap();
-        assert!(out.within_budget, "frame {f}: {out:?}");
+        select(sel, frame, f);
         for (i, &id) in ids.iter().enumerate() {
             let now = sel.selection(id).lod();
             if let (Some(b), Some(n)) = (before[i], now)
@@ -467,11 +486,7 @@ fn under_a_given_budget_that_moves_objects_go_back_on_a_refinement_only_after_ev
             before[i] = now;
         }
     }
-    assert!(
-        switches > 20,
-        "{switches} switches: the budget did not move"
-    );
-    assert_eq!(reversals, 0, "{reversals} of {switches} switches went back");
+    (switches, reversals)
 }
 
 proptest::proptest! {
@@ -606,31 +621,10 @@ fn a_budgeted_scale_that_moves_never_switches_an_object_back_within_its_dwell_ti
         ..SelectorSettings::default()
     };
     let (mut sel, ids) = random_scene(settings, 400, 3, DVec3::ZERO);
-    let dt_s = 1.0 / 36.0;
-    // Per object: the time of its last switch and the LOD it left.
-    let mut last: Vec<Option<(f32, usize)>> = vec![None; ids.len()];
-    let mut before = vec![None; ids.len()];
-    let (mut switches, mut reversals) = (0, 0);
-    for f in 0..400 {
-        let t_s = f as f32 * dt_s;
-        let mut frame = frame_at(DVec3::new(0.0, 0.0, -0.05 * f as f64), dt_s);
-        frame.camera.orientation = Quat::from_rotation_y(0.5 * (2.0 * t_s).sin());
-        frame.scale = [0.013, 0.016, 0.02, 0.015][(f / 7) % 4];
-        sel.select(&frame).unwrap();
-        for (i, &id) in ids.iter().enumerate() {
-            let now = sel.selection(id).lod();
-            if let (Some(b), Some(n)) = (before[i], now)
-                && b != n
-            {
-                switches += 1;
-                if last[i].is_some_and(|(at, left)| left == n && t_s - at < dwell_s) {
-                    reversals += 1;
-                }
-                last[i] = Some((t_s, b));
-            }
-            before[i] = now;
-        }
-    }
+    let (switches, reversals) = switches_and_reversals(&mut sel, &ids, dwell_s, |sel, frame, f| {
+        let scale = [0.013, 0.016, 0.02, 0.015][(f / 7) % 4];
+        sel.select(&with_scale(frame, scale)).unwrap();
+    });
     assert!(
         switches > 20,
         "{switches} switches: the budget did not move"
