@@ -220,10 +220,12 @@ impl Selector {
                 let last = self.profiles[p].lod_count - 1;
                 lod = lod.max(self.kept_lod(slot).min(last));
             }
-            // Within the dwell time after a refinement, a given budget
-            // starts from the LOD drawn last frame where `s_max` asks for a
-            // coarser one: going back is a held step like any other.
-            let held = self.held_beyond(slot, dwell_s);
+            // Whether the object switched to a finer LOD less than the
+            // dwell time ago, so that a step beyond last frame's LOD would
+            // go back on it. Within that time a given budget starts from
+            // the LOD drawn last frame where `s_max` asks for a coarser
+            // one: going back is a held step like any other.
+            let held = self.reverses_within(slot, dwell_s, false);
             if held && !strict_dwell {
                 let drawn = self.previous.get(slot).and_then(|s| s.lod());
                 lod = drawn.map_or(lod, |drawn| lod.min(drawn));
@@ -233,7 +235,15 @@ impl Selector {
             triangles += u64::from(self.drawn_triangles(p, adjust, lod));
             let mut bin = 0;
             let kept = self.kept_lod(slot);
-            let limit = self.coarsest_step(slot, dwell_s, strict_dwell);
+            // The coarsest LOD the greedy may step to: with `strict_dwell`,
+            // last frame's LOD for a held object (a coarser one would go
+            // back on its switch; where the start is finer, steps up to it
+            // switch nothing); otherwise any.
+            let limit = if held && strict_dwell {
+                kept
+            } else {
+                usize::MAX
+            };
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
             if next.is_none() {
                 continue;
@@ -382,25 +392,6 @@ impl Selector {
                     }
                 }
             }
-        }
-    }
-
-    /// Whether the steps beyond the LOD the object in `slot` had last frame
-    /// would go back on its switch to a finer LOD less than `dwell_s` ago.
-    fn held_beyond(&self, slot: usize, dwell_s: f32) -> bool {
-        self.reverses_within(slot, dwell_s, false)
-    }
-
-    /// The coarsest LOD the greedy may step the object in `slot` to: with
-    /// `strict_dwell`, last frame's LOD when the object switched to a finer
-    /// LOD less than `dwell_s` ago (a coarser one would go back on that
-    /// switch; where the start is finer, steps up to it switch nothing);
-    /// otherwise any.
-    fn coarsest_step(&self, slot: usize, dwell_s: f32, strict_dwell: bool) -> usize {
-        if strict_dwell && self.reverses_within(slot, dwell_s, false) {
-            self.kept_lod(slot)
-        } else {
-            usize::MAX
         }
     }
 
