@@ -206,3 +206,58 @@ pub fn on_axis(sel: &mut Selector, profile: ProfileId, z: f64) -> ObjectId {
     })
     .unwrap()
 }
+
+/// A two-LOD profile whose one transition is a single feature of
+/// `freq_cdiam` seen from every viewpoint and size.
+pub fn two_lod_profile(triangles: [u32; 2], freq_cdiam: f32) -> acuity::Profile {
+    let mut p = four_lod_profile(1);
+    p.lod_triangles = triangles.to_vec();
+    let rungs = p.rung_diameters_px.len();
+    p.transitions = (0..p.viewpoints.len() * rungs)
+        .map(|_| acuity::profile::TransitionFeatures {
+            feature_count: 1,
+            features: vec![acuity::profile::Feature {
+                freq_cdiam,
+                area_diam2: 0.01,
+                luminance: [0.0, 0.5],
+                masker: [0.0, 0.5],
+                count: 1,
+            }],
+        })
+        .collect();
+    p
+}
+
+/// Two objects side by side at the same distance (the same acuity, both
+/// visible at `s = 1`): one whose step saves 3000 triangles (4000 to
+/// 1000) at a critical frequency of 60 c/diam, one whose step saves 40
+/// (100 to 60) at `small_freq_cdiam`.
+pub fn big_and_small_saver(
+    settings: SelectorSettings,
+    small_freq_cdiam: f32,
+) -> (Selector, ObjectId, ObjectId) {
+    let mut sel = Selector::new(display(), settings);
+    let big = sel
+        .add_profile(&two_lod_profile([4000, 1000], 60.0))
+        .unwrap();
+    let small = sel
+        .add_profile(&two_lod_profile([100, 60], small_freq_cdiam))
+        .unwrap();
+    let mut add = |x: f64, profile| {
+        sel.add_object(ObjectDesc {
+            center: DVec3::new(x, 0.0, -10.0),
+            radius: 1.0,
+            rotation: Quat::IDENTITY,
+            profile,
+        })
+        .unwrap()
+    };
+    let (a, b) = (add(-1.5, big), add(1.5, small));
+    (sel, a, b)
+}
+
+/// `frame` with its global scale factor `s` set to `scale`.
+pub fn with_scale(mut frame: FrameInput, scale: f32) -> FrameInput {
+    frame.scale = scale;
+    frame
+}
