@@ -427,7 +427,9 @@ fn after_a_lasting_load_the_budget_is_not_cut_for_what_the_load_taught() {
         let aim_s = sched.aim_s();
         let fits = (aim_s - fixed_s) / (1.65 * plant.seconds_per_triangle);
         // The first frame without the load is drawn with the budget the
-        // load left; the frame time tells the load gone.
+        // load left (the frame time tells the load gone), the next half-way
+        // back (the return's first step).
+        frame(&mut sched, 1.65, 0.0);
         frame(&mut sched, 1.65, 0.0);
         let least = (0..30)
             .map(|_| frame(&mut sched, 1.65, 0.0))
@@ -436,6 +438,54 @@ fn after_a_lasting_load_the_budget_is_not_cut_for_what_the_load_taught() {
             least >= 0.8 * fits,
             "seed {seed}: {least} triangles at the least, {fits} fit the aim"
         );
+    }
+}
+
+#[test]
+fn after_a_load_through_which_the_view_grew_dearer_the_return_takes_nothing_back() {
+    // The view's triangles come to cost 40% more while a load of half the
+    // period lasts, told in advance or not. Nothing the load's frames
+    // show (few triangles, mostly fixed time) says so. Returned at once to
+    // the budget from before the load, the frames after it were 20% over
+    // the period and the budget was cut again: every object the return
+    // refined switched back within a few frames. The return must draw no
+    // frame over the period, and never draw fewer triangles than a frame
+    // after the load already drew (give or take the plant's LOD steps).
+    let period = 1.0 / 90.0;
+    let fixed_s = 1e-3;
+    for told in [false, true] {
+        for seed in 0..20 {
+            let plant = Plant::new(seed);
+            let mut sched = predictive_at_90_hz(&plant, fixed_s);
+            let frame = |sched: &mut PredictiveScheduler, load: f32, extra_s: f32| {
+                if told {
+                    sched.announce_load(extra_s);
+                }
+                predictive_frame(&plant, sched, fixed_s, load, extra_s)
+            };
+            for _ in 0..300 {
+                frame(&mut sched, 1.5, 0.0);
+            }
+            for _ in 0..20 {
+                frame(&mut sched, 2.1, 0.5 * period);
+            }
+            let (mut most, mut least_after_most, mut late, mut trace) =
+                (0f32, f32::INFINITY, 0, Vec::new());
+            for _ in 0..30 {
+                let (triangles, t) = frame(&mut sched, 2.1, 0.0);
+                trace.push(triangles);
+                late += usize::from(t > period);
+                if triangles > most {
+                    (most, least_after_most) = (triangles, triangles);
+                }
+                least_after_most = least_after_most.min(triangles);
+            }
+            assert!(
+                late == 0 && least_after_most >= 0.9 * most,
+                "told {told}, seed {seed}: {late} frames late, {most} triangles then \
+                 {least_after_most}: {trace:?}"
+            );
+        }
     }
 }
 

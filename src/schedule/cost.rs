@@ -156,6 +156,35 @@ impl CostModel {
         self.per_triangle_s += rate * (measured - self.per_triangle_s);
     }
 
+    /// The most triangles that fit `target_frame_s` (s) at the cost per
+    /// triangle one frame shows: its time (`frame_time_s`, s) less the
+    /// fixed time, over its `triangles`. A direct reading of what the view
+    /// costs now, for a budget taken from before the view changed. 0 where
+    /// the target leaves no time after the fixed time, at most
+    /// [`MAX_TRIANGLE_BUDGET`] (a frame no longer than the fixed time, or
+    /// of no triangles, reads as free).
+    pub(super) fn budget_by_frame(
+        &self,
+        target_frame_s: f32,
+        frame_time_s: f32,
+        triangles: u64,
+    ) -> u64 {
+        let spare = f64::from(target_frame_s) - f64::from(self.fixed_s);
+        let spent = f64::from(frame_time_s) - f64::from(self.fixed_s);
+        if spare.is_nan() || spare <= 0.0 {
+            return 0;
+        }
+        if triangles == 0 || spent.is_nan() || spent <= 0.0 {
+            return MAX_TRIANGLE_BUDGET;
+        }
+        let budget = spare / spent * triangles as f64;
+        if budget >= MAX_TRIANGLE_BUDGET as f64 {
+            MAX_TRIANGLE_BUDGET
+        } else {
+            budget as u64
+        }
+    }
+
     /// The time of a frame of `triangles` by the learned per-triangle cost
     /// (the proportional reading), s.
     pub(super) fn frame_s(&self, triangles: u64) -> f32 {
@@ -306,6 +335,28 @@ mod tests {
             let off = as_calibrated.floor_s(coarsest).unwrap();
             assert!((off / true_s - 1.0).abs() > 0.5, "{off} s, {true_s} true");
         }
+    }
+
+    #[test]
+    fn a_frame_reads_the_budget_that_fits_at_its_cost_per_triangle() {
+        let m = CostModel::new(2e-3, 1e-6);
+        // 10,000 triangles in 12 ms: 1 us each beyond the fixed 2 ms.
+        assert_eq!(m.budget_by_frame(7e-3, 12e-3, 10_000), 5_000);
+        // No time after the fixed time: nothing fits.
+        assert_eq!(m.budget_by_frame(1e-3, 12e-3, 10_000), 0);
+        assert_eq!(m.budget_by_frame(f32::NAN, 12e-3, 10_000), 0);
+        // A frame of no triangles, or no longer than the fixed time, says
+        // nothing of their cost: no limit from it.
+        for (frame_s, triangles) in [(12e-3, 0), (1e-3, 10_000), (f32::NAN, 10_000)] {
+            assert_eq!(
+                m.budget_by_frame(7e-3, frame_s, triangles),
+                MAX_TRIANGLE_BUDGET
+            );
+        }
+        assert_eq!(
+            m.budget_by_frame(f32::INFINITY, 12e-3, 10_000),
+            MAX_TRIANGLE_BUDGET
+        );
     }
 
     #[test]

@@ -242,6 +242,15 @@ const BAND_SIGMAS: f32 = 2.5;
 const MISS_LEARNING_RATE: f32 = 0.5;
 /// Weight of a frame in the smoothed frame time the dead band judges.
 const LEVEL_RATE: f32 = 0.3;
+/// The first step of the predictive scheduler's return after a load, a
+/// fraction of the budget from before it. The view may have grown dearer
+/// while the load lasted; the load's frames, of few triangles and mostly
+/// fixed time, do not show it, and a budget returned to at once and then
+/// cut switches back every object the return refined. Half the budget
+/// fits a view whose triangles came to cost up to twice what they did, and
+/// its frame, of many triangles, reads what they cost now
+/// (`CostModel::budget_by_frame`) for the second step.
+const RETURN_FIRST_STEP: f64 = 0.5;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Step {
@@ -647,8 +656,10 @@ fn finite_or(x: f32, fallback: f32) -> f32 {
 /// least. As for the reactive controller, a budget whose raise overloaded
 /// the frame becomes a ceiling until the load drops, while the cost
 /// floor lies above the period the budget does not fall, and after a load
-/// that lasts the budget returns at once to the one before it when the
-/// frame time steps down again (by more than its jitter).
+/// that lasts, or a told one ([`Self::announce_load`]) that bound it, the
+/// budget returns to the one before it when the frame time steps down
+/// again (by more than its jitter): half of it for one frame, then all of
+/// it where that frame's cost per triangle says it fits.
 #[derive(Clone, Debug)]
 pub struct PredictiveScheduler {
     settings: ReactiveSettings,
@@ -672,6 +683,9 @@ pub struct PredictiveScheduler {
     /// ([`load_step::LOAD_STEP`]) or the memory is too old
     /// ([`load_step::LOAD_MEMORY_S`]).
     before_load: Option<LoadMemory<(u64, CostModel)>>,
+    /// The budget a return after a load goes back to once the frame drawn
+    /// half-way shows that it fits ([`RETURN_FIRST_STEP`]).
+    return_to: Option<u64>,
     /// The last two frames' triangles and times (their announced load
     /// taken out), to tell a step of load by.
     load_steps: LoadSteps,
@@ -692,6 +706,7 @@ impl PredictiveScheduler {
             announced_s: 0.0,
             announced_budget: None,
             before_load: None,
+            return_to: None,
             load_steps: LoadSteps::new(),
         }
     }
@@ -704,9 +719,11 @@ impl PredictiveScheduler {
     /// [`observe`](Self::observe) takes it out of the frame time, so the
     /// controller does not learn it as a lasting load. The budget it leaves
     /// is held, as the budget itself is, while the announcements stay
-    /// within 10% of the load it was made for and the frames on time.
-    /// Announcements within a frame add up; [`observe`](Self::observe)
-    /// clears them. Not finite or not `> 0`: nothing.
+    /// within 10% of the load it was made for and the frames on time; once
+    /// the announcements stop, the budget comes back as after a load seen
+    /// in the frame times, in two steps. Announcements within a frame add
+    /// up; [`observe`](Self::observe) clears them. Not finite or not
+    /// `> 0`: nothing.
     pub fn announce_load(&mut self, extra_s: f32) {
         if extra_s.is_finite() && extra_s > 0.0 {
             self.announced_s += extra_s;
@@ -749,7 +766,13 @@ impl PredictiveScheduler {
             .get_or_insert_with(|| self.cost.triangle_budget(steer_s));
         let announced_s = self.announced_s;
         if announced_s <= 0.0 {
-            self.announced_budget = None;
+            // A told load that bound the budget has ended: back in two
+            // steps, as after a load seen in the frame times.
+            if let Some((_, told)) = self.announced_budget.take()
+                && told < held
+            {
+                return self.return_from(told, held);
+            }
             return held;
         }
         // Held like the budget itself: a budget that moves with every
@@ -763,6 +786,18 @@ impl PredictiveScheduler {
             }
         };
         held.min(budget)
+    }
+
+    /// The first step back from a load's budget (`load_budget`) to the
+    /// one before it (`before`): [`RETURN_FIRST_STEP`] of it (or the
+    /// load's, if more), the rest once that frame shows it fits.
+    fn return_from(&mut self, load_budget: u64, before: u64) -> u64 {
+        let first = ((RETURN_FIRST_STEP * before as f64) as u64).max(load_budget);
+        self.held = Some(first);
+        self.return_to = Some(before);
+        self.last_raised = true;
+        self.stats.moved();
+        first
     }
 
     /// Feeds back the frame just drawn: its time (s), the triangles it
@@ -843,6 +878,17 @@ impl PredictiveScheduler {
         if frame_time_s < st.clear_ratio * st.target_frame_s {
             self.ceiling = None;
         }
+        // The second step of a return: to the budget from before the load,
+        // or to what this frame's cost per triangle says fits if less.
+        let returned = self
+            .return_to
+            .take()
+            .filter(|_| frame_time_s <= aim)
+            .map(|before| {
+                let steer_s = st.steer_s(aim, self.stats.sigma());
+                before.min(self.cost.budget_by_frame(steer_s, frame_time_s, triangles))
+            })
+            .filter(|&b| b > held);
         let lower = (missed || self.stats.busy >= st.settle_frames) && fresh < held;
         // A raise must pay: by half the dead band at least, and below a
         // budget whose raise overloaded the frame.
@@ -852,7 +898,11 @@ impl PredictiveScheduler {
             && self.stats.frames >= st.settle_frames
             && self.stats.calm >= st.settle_frames
             && raised as f64 > held as f64 * (1.0 + 0.5 * f64::from(band));
-        if lower && !unreachable {
+        if let Some(b) = returned {
+            self.last_raised = true;
+            self.held = Some(b);
+            self.stats.moved();
+        } else if lower && !unreachable {
             let spike = frame_time_s > st.spike_ratio * st.target_frame_s;
             if self.last_raised && !spike {
                 self.ceiling = Some(held);
@@ -875,16 +925,15 @@ impl PredictiveScheduler {
         } else if unreachable {
             self.stats.moved();
         }
-        // The load has gone: back at once to the budget from before it, or
-        // to what the cost model from before it says fits now if less (the
-        // view may have grown dearer while the load lasted).
+        // The load has gone: back to the budget from before it, or to what
+        // the cost model from before it says fits now if less, in two steps
+        // (the view may have grown dearer while the load lasted, which the
+        // load's frames, of few triangles, do not show).
         if load_gone && let Some(m) = self.before_load.take() {
             self.ceiling = None;
             let b0 = m.before.0.min(fresh);
-            if self.held.is_some_and(|h| h < b0) {
-                self.last_raised = true;
-                self.held = Some(b0);
-                self.stats.moved();
+            if let Some(h) = self.held.filter(|&h| h < b0) {
+                self.return_from(h, b0);
             }
         }
     }
