@@ -126,15 +126,22 @@ fn min_dwell_holds_a_coarsening_until_the_lod_has_been_held_that_long() {
     );
 }
 
+/// The big and the small saver (`big_and_small_saver`, the small one's
+/// feature at 60 c/diam) with `switch_min_dwell_s` of `dwell_s`, the big
+/// saver's id, and a frame of 1/15 s.
+fn big_saver_with_dwell(dwell_s: f32) -> (Selector, ObjectId, FrameInput) {
+    let settings = SelectorSettings {
+        switch_min_dwell_s: dwell_s,
+        ..SelectorSettings::default()
+    };
+    let (sel, big, _) = big_and_small_saver(settings, 60.0);
+    (sel, big, frame_at(DVec3::ZERO, 1.0 / 15.0))
+}
+
 #[test]
 fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_held_that_long() {
     for dwell_s in [0.0, 0.25] {
-        let settings = SelectorSettings {
-            switch_min_dwell_s: dwell_s,
-            ..SelectorSettings::default()
-        };
-        let (mut sel, a, _) = big_and_small_saver(settings, 60.0);
-        let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
+        let (mut sel, a, frame) = big_saver_with_dwell(dwell_s);
         let mut lod_within = |budget: u64| {
             let out = sel.select_within_budget(&frame, budget).unwrap();
             assert!(out.within_budget, "{dwell_s}: {out:?}");
@@ -158,12 +165,7 @@ fn under_a_budget_min_dwell_holds_a_forced_coarsening_until_the_lod_has_been_hel
 
 #[test]
 fn under_a_given_budget_the_big_saver_goes_back_on_a_refinement_only_where_nothing_else_meets_it() {
-    let settings = SelectorSettings {
-        switch_min_dwell_s: 0.25,
-        ..SelectorSettings::default()
-    };
-    let (mut sel, a, _) = big_and_small_saver(settings, 60.0);
-    let frame = frame_at(DVec3::ZERO, 1.0 / 15.0);
+    let (mut sel, a, frame) = big_saver_with_dwell(0.25);
     let mut lod_within = |budget: u64| {
         let out = sel.select_within_budget(&frame, budget).unwrap();
         assert!(out.within_budget, "{budget}: {out:?}");
