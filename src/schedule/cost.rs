@@ -177,12 +177,7 @@ impl CostModel {
         if triangles == 0 || spent.is_nan() || spent <= 0.0 {
             return MAX_TRIANGLE_BUDGET;
         }
-        let budget = spare / spent * triangles as f64;
-        if budget >= MAX_TRIANGLE_BUDGET as f64 {
-            MAX_TRIANGLE_BUDGET
-        } else {
-            budget as u64
-        }
+        capped_budget(spare / spent * triangles as f64)
     }
 
     /// The time of a frame of `triangles` by the learned per-triangle cost
@@ -238,11 +233,17 @@ impl CostModel {
             let local = f64::from(self.local_per_triangle_s.max(1e-15));
             budget = budget.min((spare - f64::from(self.extra_load_s)).max(0.0) / local);
         }
-        if budget >= MAX_TRIANGLE_BUDGET as f64 {
-            MAX_TRIANGLE_BUDGET
-        } else {
-            budget as u64
-        }
+        capped_budget(budget)
+    }
+}
+
+/// A budget of `triangles` (not NaN, `>= 0`), at most
+/// [`MAX_TRIANGLE_BUDGET`] (`+inf` included).
+fn capped_budget(triangles: f64) -> u64 {
+    if triangles >= MAX_TRIANGLE_BUDGET as f64 {
+        MAX_TRIANGLE_BUDGET
+    } else {
+        triangles as u64
     }
 }
 

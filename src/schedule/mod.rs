@@ -793,11 +793,17 @@ impl PredictiveScheduler {
     /// load's, if more), the rest once that frame shows it fits.
     fn return_from(&mut self, load_budget: u64, before: u64) -> u64 {
         let first = ((RETURN_FIRST_STEP * before as f64) as u64).max(load_budget);
-        self.held = Some(first);
+        self.raise_to(first);
         self.return_to = Some(before);
-        self.last_raised = true;
-        self.stats.moved();
         first
+    }
+
+    /// Holds `budget`, raised from the one held: the level starts again,
+    /// and a frame it overloads makes it a ceiling.
+    fn raise_to(&mut self, budget: u64) {
+        self.last_raised = true;
+        self.held = Some(budget);
+        self.stats.moved();
     }
 
     /// Feeds back the frame just drawn: its time (s), the triangles it
@@ -863,9 +869,8 @@ impl PredictiveScheduler {
             .filter(|f| f.is_finite());
         let unreachable = self.target_unreachable();
         let aim = self.stats.see(&st, frame_time_s);
-        let fresh = self
-            .cost
-            .triangle_budget(st.steer_s(aim, self.stats.sigma()));
+        let steer_s = st.steer_s(aim, self.stats.sigma());
+        let fresh = self.cost.triangle_budget(steer_s);
         let missed = self.stats.missed(frame_time_s, st.target_frame_s, band);
         if full_frame_s > (1.0 + band) * st.target_frame_s {
             self.announced_budget = None;
@@ -884,10 +889,7 @@ impl PredictiveScheduler {
             .return_to
             .take()
             .filter(|_| frame_time_s <= aim)
-            .map(|before| {
-                let steer_s = st.steer_s(aim, self.stats.sigma());
-                before.min(self.cost.budget_by_frame(steer_s, frame_time_s, triangles))
-            })
+            .map(|before| before.min(self.cost.budget_by_frame(steer_s, frame_time_s, triangles)))
             .filter(|&b| b > held);
         let lower = (missed || self.stats.busy >= st.settle_frames) && fresh < held;
         // A raise must pay: by half the dead band at least, and below a
@@ -899,9 +901,7 @@ impl PredictiveScheduler {
             && self.stats.calm >= st.settle_frames
             && raised as f64 > held as f64 * (1.0 + 0.5 * f64::from(band));
         if let Some(b) = returned {
-            self.last_raised = true;
-            self.held = Some(b);
-            self.stats.moved();
+            self.raise_to(b);
         } else if lower && !unreachable {
             let spike = frame_time_s > st.spike_ratio * st.target_frame_s;
             if self.last_raised && !spike {
@@ -911,9 +911,7 @@ impl PredictiveScheduler {
             self.held = Some(fresh);
             self.stats.moved();
         } else if raise {
-            self.last_raised = true;
-            self.held = Some(raised);
-            self.stats.moved();
+            self.raise_to(raised);
             // Climbed back by the raise rule: nothing left to return to.
             if self
                 .before_load
