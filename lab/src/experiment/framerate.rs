@@ -306,6 +306,12 @@ pub struct HeldRate {
     pub over_in_spikes_with_room: f64,
     /// Share of the frames outside the spikes reported out of reach.
     pub unreachable_outside_spikes: Option<f64>,
+    /// Of the frames outside the spikes after the start-up, the share with
+    /// the knob at its end ([`crate::policy::Choice::at_limit`]): a
+    /// scheduler there no longer holds the rate by its knob, and the LODs
+    /// are those of its lowest `s` (for acuity, by the eye model at that
+    /// `s` alone, so they follow the objects across the field).
+    pub at_limit_settled: f64,
     /// Of the frames outside the spikes after the start-up, the share
     /// whose cost floor lay above the scheduler's aim: no LOD choice
     /// leaves them the headroom; `None` as above.
@@ -389,6 +395,7 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
                     over(f) && !f.at_limit && !unreachable(f) && (told || !first_of_spike(f))
                 }),
                 unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
+                at_limit_settled: share(&settled, |f| f.at_limit),
                 floor_above_aim_settled: sees_floor.then(|| share(&settled, floor_above_aim)),
                 over_settled_with_room: sees_floor
                     .then(|| share(&settled, |f| over(f) && !floor_above_aim(f))),
@@ -411,13 +418,14 @@ fn pct(v: Option<f64>) -> String {
 /// out of reach and over while reachable, over with the knob at its end
 /// (`in:lim%`) and short of it where reachable (`in:room%`, each spike's
 /// first frame not counted for a policy not told of the load), once
-/// settled the floor above the aim and the late frames with room,
-/// switches, reversals, triangles, `s` and JOD.
+/// settled the floor above the aim, the late frames with room and the
+/// frames with the knob at its end (`lim%set`), switches, reversals,
+/// triangles, `s` and JOD.
 pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
+        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
         "over% set",
@@ -429,6 +437,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
         "unr%out",
         "flr>aim%",
         "over%room",
+        "lim%set",
         "sw/s",
         "rev/s",
         "rev1s/s",
@@ -439,7 +448,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
+            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
             r.policy.label(r.knob),
             pct(Some(r.over_outside_spikes)),
             pct(Some(r.over_settled)),
@@ -451,6 +460,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
             pct(r.unreachable_outside_spikes),
             pct(r.floor_above_aim_settled),
             pct(r.over_settled_with_room),
+            pct(Some(r.at_limit_settled)),
             r.switches_per_s,
             r.reversals_per_s,
             r.slow_reversals_per_s,
@@ -465,13 +475,13 @@ pub fn held_table(rows: &[HeldRate]) -> String {
 /// The schedulers' table as CSV (shares as fractions).
 pub fn held_csv(rows: &[HeldRate]) -> String {
     let mut t = String::from(
-        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room\n",
+        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room,at_limit_settled\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for r in rows {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4}",
+            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4},{:.4}",
             r.policy.label(r.knob),
             r.over_outside_spikes,
             r.over_settled,
@@ -489,6 +499,7 @@ pub fn held_csv(rows: &[HeldRate]) -> String {
             r.slow_reversals_per_s,
             r.over_in_spikes_at_limit,
             r.over_in_spikes_with_room,
+            r.at_limit_settled,
         );
     }
     t
@@ -572,14 +583,18 @@ mod tests {
         // A 100 ms period and a 90 ms aim, all settled and outside the
         // spikes: three frames at a floor of 95 ms (above the aim, below
         // the period), two of them late; one late frame at a floor of 40 ms.
-        let frames = vec![
+        let mut frames = vec![
             floored(1.0, 104.0, false, 95.0),
             floored(1.1, 99.0, false, 95.0),
             floored(1.2, 101.0, false, 95.0),
             floored(1.3, 120.0, false, 40.0),
             floored(1.4, 85.0, false, 40.0),
         ];
+        // Two of them with the knob at its end.
+        frames[1].at_limit = true;
+        frames[4].at_limit = true;
         let held = held_at_100_ms(frames);
+        assert_eq!(held.at_limit_settled, 2.0 / 5.0);
         assert_eq!(held.over_settled, 3.0 / 5.0);
         assert_eq!(held.floor_above_aim_settled, Some(3.0 / 5.0));
         assert_eq!(held.over_settled_with_room, Some(1.0 / 5.0));
