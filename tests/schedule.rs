@@ -1090,8 +1090,8 @@ fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_
     // s = 1), frames varying by 5%: started at its lowest `s`, the
     // controller draws no frame over the period on its way up and raises
     // `s` after every frame below its dead band: within a quarter of its
-    // aim by frame 10 on every seed (raising after three frames each, by
-    // frame 30).
+    // aim by frame 20 on every seed from the default floor of 1e-3 (by
+    // frame 15 from 0.01; raising after three frames each, by frame 30).
     let target = 1.0 / 90.0;
     let mut slowest = 0;
     for seed in 0..20 {
@@ -1114,7 +1114,7 @@ fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_
         slowest = slowest.max(frame);
     }
     assert!(
-        slowest <= 15,
+        slowest <= 20,
         "within a quarter of the aim at frame {slowest}"
     );
 }

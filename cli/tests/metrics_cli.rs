@@ -76,6 +76,8 @@ fn experiments_run_small_and_write_their_files() {
                 "60",
                 "--screen-size-periods",
                 "0.9,1.1",
+                "--min-scale",
+                "0.25",
             ]
             .iter()
             .map(|x| x.to_string())
@@ -152,6 +154,23 @@ fn experiments_run_small_and_write_their_files() {
     let ratio =
         first_aim_ms("screen_size_reactive_period_1.1") / first_aim_ms("screen_size_reactive");
     assert!((ratio - 1.1).abs() < 1e-3, "{ratio}");
+    // `--min-scale` floors every controller: the reactive ones start at
+    // it (0.25 instead of the default 1e-3) and never go below.
+    let scales = |policy: &str| -> Vec<f64> {
+        let column = frame_header.split(',').position(|c| c == "scale").unwrap();
+        frames
+            .lines()
+            .filter(|r| r.split(',').next() == Some(policy))
+            .map(|r| r.split(',').nth(column).unwrap().parse().unwrap())
+            .collect()
+    };
+    for policy in ["acuity_reactive", "screen_size_reactive"] {
+        let floored = scales(policy);
+        assert!(
+            !floored.is_empty() && floored[0] == 0.25 && floored.iter().all(|&s| s >= 0.25),
+            "{policy}: {floored:?}"
+        );
+    }
     // Speedup dumps per N and trial.
     for n in ["n0003_trial0", "n0006_trial0"] {
         let trial = dir.join("speedup-frames").join(n);

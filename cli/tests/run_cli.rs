@@ -214,7 +214,7 @@ fn unknown_policy_and_zero_frames_are_refused() {
 #[test]
 fn out_of_range_arguments_exit_2_naming_the_limit() {
     // Clap's errors come whole (error, usage); the commands' in one line.
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 12] = [
         (&["acuity", "--velocity", "nan"], "--velocity"),
         (&["acuity", "--velocity=-1"], "--velocity"),
         (&["acuity", "--eccentricity=-10"], "--eccentricity"),
@@ -274,6 +274,17 @@ fn out_of_range_arguments_exit_2_naming_the_limit() {
                 "0.9,3",
             ],
             "--screen-size-periods",
+        ),
+        (
+            &[
+                "experiment",
+                "framerate",
+                "--scene",
+                "no/such.toml",
+                "--min-scale",
+                "0",
+            ],
+            "--min-scale",
         ),
         (
             &[

@@ -203,6 +203,7 @@ impl PolicyRunner {
                 acuity::STEADY_SWITCH_COARSEN_DELAY_S,
                 base.switch_coarsen_delay_s,
             ),
+            min_scale: world.scene.run.min_scale,
             ..base
         };
         let mut selector = Selector::new(world.display, settings);
@@ -251,7 +252,13 @@ impl PolicyRunner {
             acuity::schedule::check_target_hz("run.target_hz", run.target_hz)?;
         }
         let scale = (run.scale_factor as f32).clamp(MIN_SCALE, 1.0);
-        let tuned = || ReactiveSettings::for_rate_hz(run.target_hz as f32);
+        // Every controller, screen size's too, stops at the scene's floor.
+        let tuned = || {
+            ReactiveSettings::for_rate_hz(run.target_hz as f32).map(|t| ReactiveSettings {
+                min_scale: run.min_scale,
+                ..t
+            })
+        };
         let scheduler = match policy {
             Policy::AcuityReactive
             | Policy::AcuityReactiveBudgeted

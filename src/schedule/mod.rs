@@ -83,9 +83,11 @@ pub struct ReactiveSettings {
     /// the aim is `period * min(headroom, 1 / (1 + variation_z sigma))`,
     /// at least half the period.
     pub variation_z: f32,
-    /// Lowest `s`, in `(0, 1]` (0.01 by default: low enough that most
-    /// objects reach their coarsest LOD, so a target the cost floor allows
-    /// is reached).
+    /// Lowest `s`, in `(0, 1]` (1e-3 by default, the budgeted selection's
+    /// [`SelectorSettings::min_scale`](crate::SelectorSettings::min_scale):
+    /// low enough that nearly every object, even at the centre of the
+    /// gaze, reaches its coarsest LOD, so a target the cost floor allows is
+    /// reached).
     pub min_scale: f32,
     /// Exponent of the multiplicative step: `s *= (aim / frame)^gain`.
     /// 0.5 moves half-way (in log terms) towards the estimated fit.
@@ -130,7 +132,7 @@ impl ReactiveSettings {
             target_frame_s: 1.0 / rate_hz,
             headroom: 0.9,
             variation_z: 2.0,
-            min_scale: 0.01,
+            min_scale: 1e-3,
             gain: 0.5,
             dead_band: 0.1,
             settle_frames: 3,

@@ -180,7 +180,13 @@ pub struct SelectorSettings {
     pub velocity_time_constant_s: f32,
     /// Below this many objects the loop runs on the calling thread.
     pub parallel_min_objects: usize,
-    /// Lowest `s` the budgeted selection may use, in `(0, 1]`.
+    /// Lowest `s` the budgeted selection may use, in `(0, 1]` (default
+    /// 1e-3). A budget it cannot meet with every step down to this `s`
+    /// stops there, over budget. 1e-3 lets nearly every object reach its
+    /// coarsest LOD, even at the centre of the gaze, so that a frame-rate
+    /// scheduler can hold a rate its cost floor allows; at 0.01 objects near
+    /// the gaze keep detail the frame cannot afford, and their LODs then
+    /// follow the eye model alone as they cross the field.
     pub min_scale: f32,
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
@@ -372,7 +378,7 @@ impl Default for SelectorSettings {
             cull: true,
             velocity_time_constant_s: 0.05,
             parallel_min_objects: 32_768,
-            min_scale: 0.01,
+            min_scale: 1e-3,
             budget_rule: BudgetRule::default(),
             scale_rule: ScaleRule::default(),
             visibility_budget: VisibilityBudget::Off,

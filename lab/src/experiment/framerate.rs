@@ -66,6 +66,11 @@ pub struct FramerateArgs {
     /// `scenes/default.toml`).
     #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub screen_size_periods: Vec<f64>,
+    /// The lowest `s` the schedulers may use, screen size's under the same
+    /// controller too, 1e-6 to 1 (default: the scene's `run.min_scale`,
+    /// else the runtime's 1e-3).
+    #[cfg_attr(feature = "clap", arg(long))]
+    pub min_scale: Option<f64>,
     /// Error metrics, comma-separated: none by default; `fvvdp` scores
     /// every sequence with FovVideoVDP against full detail (needs Python
     /// with pyfvvdp; dumps the frames, to `<out>/frames/` without
@@ -136,9 +141,15 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     if let Some(hz) = args.target_hz {
         limits::check_target_hz(hz).map_err(|e| input_error(format!("--target-hz: {e}")))?;
     }
+    if let Some(m) = args.min_scale {
+        crate::scene::check_min_scale(m).map_err(|e| input_error(format!("--min-scale: {e}")))?;
+    }
     let mut world = args.common.load(&args.scene)?;
     if let Some(hz) = args.target_hz {
         world.scene.run.target_hz = hz;
+    }
+    if let Some(m) = args.min_scale {
+        world.scene.run.min_scale = m as f32;
     }
     // The bias of the screen-size runs whose knob is their period.
     world.scene.run.screen_size_bias = args.screen_size_bias;
@@ -192,13 +203,14 @@ pub fn framerate(args: &FramerateArgs) -> anyhow::Result<FramerateOutcome> {
     let mut table = String::new();
     let _ = writeln!(
         table,
-        "target {:.1} Hz ({:.2} ms), spikes of +{extra_ms:.2} ms at {:.2}-{:.2} s and {:.2}-{:.2} s",
+        "target {:.1} Hz ({:.2} ms), spikes of +{extra_ms:.2} ms at {:.2}-{:.2} s and {:.2}-{:.2} s; the schedulers' floor s = {}",
         world.scene.run.target_hz,
         world.scene.run.budget_s() * 1e3,
         0.25 * d,
         0.375 * d,
         0.625 * d,
-        0.75 * d
+        0.75 * d,
+        world.scene.run.min_scale
     );
     table.push_str(&format_table(&sums));
     let held = held_rates(&runs, &sums, world.scene.run.budget_s());

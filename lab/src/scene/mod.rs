@@ -55,6 +55,7 @@
 //! screen_size_thresholds = [0.6, 0.3, 0.1, 0.03]  # relative heights, one per LOD
 //! screen_size_foveated = false       # weight screen size by M(E) at the gaze
 //! cross_fade_s = 0.0                 # dithered cross-fade between LODs, s; 0 = switch at once
+//! min_scale = 0.001                  # the schedulers' lowest s
 //!
 //! [profiles]                         # optional; how the offline pass analyses
 //! resolution = 512                   # the size ladder's largest rung, pixels
@@ -710,6 +711,28 @@ pub struct RunSpec {
     /// at once. While it fades, both LODs are drawn with complementary
     /// screen-door dither masks.
     pub cross_fade_s: f64,
+    /// The lowest `s` the fixed-frame-rate schedulers may use, in
+    /// `[MIN_FLOOR_SCALE, 1]`: the reactive scheduler's
+    /// [`ReactiveSettings::min_scale`] (screen size's under the same
+    /// controller too) and the budgeted selection's
+    /// [`SelectorSettings::min_scale`]. Default: the runtime's, 1e-3.
+    ///
+    /// [`ReactiveSettings::min_scale`]: acuity::schedule::ReactiveSettings::min_scale
+    /// [`SelectorSettings::min_scale`]: acuity::SelectorSettings::min_scale
+    pub min_scale: f32,
+}
+
+/// The lowest `run.min_scale` (and `--min-scale`): the runtime clamps its
+/// floors to it.
+pub const MIN_FLOOR_SCALE: f64 = 1e-6;
+
+/// Checks a scheduler floor ([`RunSpec::min_scale`]).
+pub fn check_min_scale(min_scale: f64) -> Result<(), String> {
+    if (MIN_FLOOR_SCALE..=1.0).contains(&min_scale) {
+        Ok(())
+    } else {
+        Err(format!("{min_scale} is outside {MIN_FLOOR_SCALE:e}..=1"))
+    }
 }
 
 /// The longest cross-fade a scene or `--cross-fade-s` may ask for, s.

@@ -194,6 +194,7 @@ pub(super) struct RawRun {
     pub(super) screen_size_foveated: Option<bool>,
     pub(super) scale_factor: Option<f64>,
     pub(super) cross_fade_s: Option<f64>,
+    pub(super) min_scale: Option<f64>,
 }
 
 #[derive(Deserialize, Default)]
