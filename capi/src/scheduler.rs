@@ -183,7 +183,7 @@ pub unsafe extern "C" fn acuity_scheduler_announce_load(
 }
 
 /// Sets the reactive scheduler's `s` to `scale` (finite, in (0, 1]; below
-/// the scheduler's lowest `s`, 0.01, it starts there) and climbs from it:
+/// the scheduler's lowest `s`, 1e-3, it starts there) and climbs from it:
 /// until the first frame that is not below the dead band, `s` rises after
 /// every frame instead of after three. Call it before the first frame (or
 /// after a cut to a new scene) to show the first frames coarse rather than

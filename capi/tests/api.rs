@@ -850,7 +850,7 @@ fn a_reactive_scheduler_started_low_climbs_without_the_late_start_from_c() {
         expect(acuity_scheduler_start_at(sched, 1e-6), ACUITY_OK);
         let mut state = AcuitySchedulerState::default();
         expect(acuity_scheduler_state(sched, &mut state), ACUITY_OK);
-        assert_eq!(state.scale, 0.01, "the lowest s");
+        assert_eq!(state.scale, 1e-3, "the lowest s");
         let late: Vec<usize> = (0..30)
             .filter(|_| plant.frame(sched, 0.0) > period_s)
             .collect();
