@@ -14,6 +14,7 @@
 //! | simulated time step | [`MIN_DT_S`] (0.1 ms) to [`MAX_DT_S`] (1 s) | `run.dt_s` |
 //! | load spikes | 0 to [`MAX_SPIKE_LOAD`] (10) frame budgets | `--spike-load` |
 //! | scale factor `s` | (0, 1]; below [`MIN_SCALE`] (`f32`'s smallest normal, 1.2e-38) it selects as `MIN_SCALE`: the coarsest LODs | `run.scale_factor`, `--scales` |
+//! | the schedulers' lowest `s` | [`MIN_FLOOR_SCALE`](crate::scene::MIN_FLOOR_SCALE) (1e-6) to 1 | `run.min_scale`, `--min-scale` |
 //!
 //! Before a run or an experiment plays its frames, the memory it will keep
 //! (each frame's record per policy, the full-detail images FLIP compares
