@@ -52,11 +52,11 @@ pub use crate::error::{Error, Result, number as format_number};
 pub use crate::profile::Profile;
 pub use crate::schedule::{CostModel, PredictiveScheduler, ReactiveScheduler, ReactiveSettings};
 pub use crate::select::{
-    BudgetOutcome, BudgetRule, Diagnostics, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG,
-    IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2, ObjectDesc, ObjectId, ProfileId,
-    SACCADE_THRESHOLD_DEG_PER_S, STEADY_SWITCH_COARSEN_DELAY_S, STEADY_SWITCH_HYSTERESIS,
-    STEADY_SWITCH_MIN_DWELL_S, ScaleRule, Selection, Selector, SelectorSettings, SimdLevel,
-    ViewpointRule, VisibilityBudget,
+    BudgetOutcome, BudgetRule, DEFAULT_MIN_SCALE, Diagnostics, FrameInput,
+    IMPERCEPTIBLE_VISIBILITY_DEG, IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2, LOWEST_MIN_SCALE,
+    ObjectDesc, ObjectId, ProfileId, SACCADE_THRESHOLD_DEG_PER_S, STEADY_SWITCH_COARSEN_DELAY_S,
+    STEADY_SWITCH_HYSTERESIS, STEADY_SWITCH_MIN_DWELL_S, ScaleRule, Selection, Selector,
+    SelectorSettings, SimdLevel, ViewpointRule, VisibilityBudget,
 };
 pub use crate::stereo::{Eye, StereoRig};
 

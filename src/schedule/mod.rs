@@ -83,11 +83,12 @@ pub struct ReactiveSettings {
     /// the aim is `period * min(headroom, 1 / (1 + variation_z sigma))`,
     /// at least half the period.
     pub variation_z: f32,
-    /// Lowest `s`, in `(0, 1]` (1e-3 by default, the budgeted selection's
-    /// [`SelectorSettings::min_scale`](crate::SelectorSettings::min_scale):
-    /// low enough that nearly every object, even at the centre of the
-    /// gaze, reaches its coarsest LOD, so a target the cost floor allows is
-    /// reached).
+    /// Lowest `s`, in `(0, 1]` (by default
+    /// [`DEFAULT_MIN_SCALE`](crate::DEFAULT_MIN_SCALE), 1e-3, as the
+    /// budgeted selection's
+    /// [`SelectorSettings::min_scale`](crate::SelectorSettings::min_scale);
+    /// below [`LOWEST_MIN_SCALE`](crate::LOWEST_MIN_SCALE) it is raised to
+    /// it).
     pub min_scale: f32,
     /// Exponent of the multiplicative step: `s *= (aim / frame)^gain`.
     /// 0.5 moves half-way (in log terms) towards the estimated fit.
@@ -132,7 +133,7 @@ impl ReactiveSettings {
             target_frame_s: 1.0 / rate_hz,
             headroom: 0.9,
             variation_z: 2.0,
-            min_scale: 1e-3,
+            min_scale: crate::DEFAULT_MIN_SCALE,
             gain: 0.5,
             dead_band: 0.1,
             settle_frames: 3,
@@ -170,7 +171,7 @@ impl ReactiveSettings {
         };
         s.headroom = finite_or(s.headroom, 0.9).clamp(0.5, 1.0);
         s.variation_z = finite_or(s.variation_z, 2.0).clamp(0.0, 10.0);
-        s.min_scale = finite_or(s.min_scale, 0.05).clamp(1e-6, 1.0);
+        s.min_scale = finite_or(s.min_scale, 0.05).clamp(crate::LOWEST_MIN_SCALE, 1.0);
         s.gain = finite_or(s.gain, 0.5).clamp(0.01, 1.0);
         s.dead_band = finite_or(s.dead_band, 0.1).clamp(0.0, 0.9);
         s.settle_frames = s.settle_frames.max(1);

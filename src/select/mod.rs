@@ -181,12 +181,9 @@ pub struct SelectorSettings {
     /// Below this many objects the loop runs on the calling thread.
     pub parallel_min_objects: usize,
     /// Lowest `s` the budgeted selection may use, in `(0, 1]` (default
-    /// 1e-3). A budget it cannot meet with every step down to this `s`
-    /// stops there, over budget. 1e-3 lets nearly every object reach its
-    /// coarsest LOD, even at the centre of the gaze, so that a frame-rate
-    /// scheduler can hold a rate its cost floor allows; at 0.01 objects near
-    /// the gaze keep detail the frame cannot afford, and their LODs then
-    /// follow the eye model alone as they cross the field.
+    /// [`DEFAULT_MIN_SCALE`], 1e-3; below [`LOWEST_MIN_SCALE`] it is
+    /// raised to it). A budget it cannot meet with every step down to this
+    /// `s` stops there, over budget.
     pub min_scale: f32,
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
@@ -378,7 +375,7 @@ impl Default for SelectorSettings {
             cull: true,
             velocity_time_constant_s: 0.05,
             parallel_min_objects: 32_768,
-            min_scale: 1e-3,
+            min_scale: DEFAULT_MIN_SCALE,
             budget_rule: BudgetRule::default(),
             scale_rule: ScaleRule::default(),
             visibility_budget: VisibilityBudget::Off,
@@ -484,6 +481,20 @@ pub enum VisibilityBudget {
 /// budget on the kinds it has, so a budget fitted to a mixed scene alone
 /// leaves a scene of its most cheaply priced kind perceptible.
 pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 16.0;
+
+/// The lowest `s` a frame-rate scheduler may use by default:
+/// [`SelectorSettings::min_scale`] and
+/// [`ReactiveSettings::min_scale`](crate::ReactiveSettings::min_scale).
+/// Low enough that nearly every object, even at the centre of the gaze,
+/// reaches its coarsest LOD, so that a scheduler can hold a rate its cost
+/// floor allows; at 0.01 objects near the gaze keep detail the frame
+/// cannot afford, and their LODs then follow the eye model alone as they
+/// cross the field.
+pub const DEFAULT_MIN_SCALE: f32 = 1e-3;
+
+/// The lowest `min_scale` either setting takes; a lower one is raised to
+/// it.
+pub const LOWEST_MIN_SCALE: f32 = 1e-6;
 
 /// [`SelectorSettings::switch_hysteresis`] of the steady switch rules
 /// ([`SelectorSettings::just_imperceptible`], and the lab's schedulers):

@@ -459,7 +459,10 @@ impl Selector {
         self.bias_budget_entries();
         // The lowest `s` a step may need: `min_scale`, or a lower `s` whose
         // triangles are the budget (every step the uniform rule takes there).
-        let min_scale = self.settings.min_scale.clamp(1e-6, s_max);
+        let min_scale = self
+            .settings
+            .min_scale
+            .clamp(super::LOWEST_MIN_SCALE, s_max);
         let from_scale = matches!(budget, Budget::UniformAt(_));
         // A budget from `s` is the scheduler's soft target: within the
         // dwell time after a switch an object does not switch back however

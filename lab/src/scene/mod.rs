@@ -715,15 +715,16 @@ pub struct RunSpec {
     /// `[MIN_FLOOR_SCALE, 1]`: the reactive scheduler's
     /// [`ReactiveSettings::min_scale`] (screen size's under the same
     /// controller too) and the budgeted selection's
-    /// [`SelectorSettings::min_scale`]. Default: the runtime's, 1e-3.
+    /// [`SelectorSettings::min_scale`]. Default: [`acuity::DEFAULT_MIN_SCALE`], 1e-3.
     ///
     /// [`ReactiveSettings::min_scale`]: acuity::schedule::ReactiveSettings::min_scale
     /// [`SelectorSettings::min_scale`]: acuity::SelectorSettings::min_scale
     pub min_scale: f32,
 }
 
-/// The lowest `run.min_scale` (and `--min-scale`): the runtime clamps its
-/// floors to it.
+/// The lowest `run.min_scale` (and `--min-scale`): the runtime's
+/// [`acuity::LOWEST_MIN_SCALE`], as written (`f64::from` of the `f32`
+/// would print as 9.99999997e-7).
 pub const MIN_FLOOR_SCALE: f64 = 1e-6;
 
 /// Checks a scheduler floor ([`RunSpec::min_scale`]).

@@ -290,9 +290,7 @@ impl Ctx<'_> {
         }
         let cross_fade_s = r.cross_fade_s.unwrap_or(0.0);
         super::check_cross_fade_s(cross_fade_s).map_err(|e| self.invalid("run.cross_fade_s", e))?;
-        let min_scale = r
-            .min_scale
-            .unwrap_or_else(|| f64::from(acuity::SelectorSettings::default().min_scale));
+        let min_scale = r.min_scale.unwrap_or(f64::from(acuity::DEFAULT_MIN_SCALE));
         super::check_min_scale(min_scale).map_err(|e| self.invalid("run.min_scale", e))?;
         Ok(RunSpec {
             target_hz,

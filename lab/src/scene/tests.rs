@@ -28,10 +28,7 @@ fn minimal_scene_parses_with_defaults() {
     assert_eq!(s.gaze, GazeSpec::default());
     assert_eq!(s.instance_count(), 1);
     assert_eq!(s.run.cross_fade_s, 0.0);
-    assert_eq!(
-        s.run.min_scale,
-        acuity::SelectorSettings::default().min_scale
-    );
+    assert_eq!(s.run.min_scale, acuity::DEFAULT_MIN_SCALE);
 }
 
 #[test]
@@ -39,6 +36,7 @@ fn scheduler_floor_is_read_and_checked() {
     let with = |v: &str| format!("{MINIMAL}\n[run]\nmin_scale = {v}\n");
     let s = Scene::parse(&with("0.01"), "min.toml").unwrap();
     assert_eq!(s.run.min_scale, 0.01);
+    assert_eq!(super::MIN_FLOOR_SCALE as f32, acuity::LOWEST_MIN_SCALE);
     for bad in ["0", "-0.5", "1e-7", "1.5"] {
         let e = Scene::parse(&with(bad), "min.toml").unwrap_err();
         assert_eq!(e.field(), Some("run.min_scale"), "{bad}: {e}");
