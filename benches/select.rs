@@ -23,7 +23,7 @@
 //! [`ScaleRule::Budgeted`]: the triangles that `s` draws, spent best
 //! effort (at `s = 1` it is the plain loop). `single_thread_pooled` (1e5
 //! and 1e6) selects at `s = 1` with that rule and a visibility budget
-//! ([`SelectorSettings::visibility_budget`], 16 deg): a budgeted
+//! ([`SelectorSettings::visibility_budget`], the calibrated deg): a budgeted
 //! selection every frame. `single_thread_just_imperceptible` (1e5 and
 //! 1e6) is [`SelectorSettings::just_imperceptible`] at `s = 1`: the
 //! calibrated budget (on this display's field of view) and the steady

@@ -622,7 +622,7 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
     assert_eq!(triangles_at(1, 1.0), triangles_at(0, 1.0));
     let pooled = AcuitySettings {
         budgeted_scale: 1,
-        visibility_budget_deg: 50.0,
+        visibility_budget_deg: 200.0,
         ..AcuitySettings::default()
     };
     let s = scene(&pooled, 40);
@@ -632,7 +632,7 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
     unsafe { acuity_selector_free(s) };
     assert!(
         with_budget < triangles_at(1, 1.0),
-        "a visibility budget of 50 deg saved nothing at s = 1"
+        "a visibility budget of 200 deg saved nothing at s = 1"
     );
     // The calibration: s = 1 just imperceptible on the selector's display.
     let mut calibrated = AcuitySettings::default();
@@ -679,6 +679,7 @@ fn a_budgeted_scale_never_draws_more_than_one_s_for_all() {
     let at_edge = triangles(s);
     // SAFETY: from acuity_selector_new, freed once.
     unsafe { acuity_selector_free(s) };
+    // The calibrated budget on this field (3.6 times Reddy's) is below 200 deg.
     assert!(at_edge <= triangles_at(1, 1.0) && at_edge >= with_budget);
     for scale in [0.5, 0.2, 0.05] {
         let (budgeted, uniform) = (triangles_at(1, scale), triangles_at(0, scale));

@@ -37,11 +37,18 @@
 //! A visibility budget
 //! ([`SelectorSettings::visibility_budget`](super::SelectorSettings::visibility_budget),
 //! under a budget from `s`) lets the greedy go on once the triangles fit:
-//! each step's added visibility (`theta ln v` at its LOD less the object's
-//! at the LOD before, deg) is binned beside its saving, and the steps left
-//! are taken in the same order while the visibility they add stays within
-//! the budget. Visible differences add up over an image, so this bounds
-//! the image's difference rather than each object's alone. The budget
+//! each step's added visibility (`theta ln(v / v0)` at its LOD less the
+//! object's at the LOD before, deg) is binned beside its saving, and the
+//! steps left are taken in the same order while the visibility they add
+//! stays within the budget. Visible differences add up over an image, so
+//! this bounds the image's difference rather than each object's alone;
+//! for the same reason a step just inside the edge of visibility is not
+//! free: with a visibility budget, `ln v` is counted from
+//! `v0 =` [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM)
+//! below the edge, and the greedy starts from the LODs invisible from
+//! there on, so that the triangles from `s` (at `s = 1`, the rule's
+//! without a budget) are saved where the steps inside the edge save the
+//! most triangles for their visibility. The budget
 //! comes on top of what the triangles from `s` needed, so a lower `s`
 //! draws fewer triangles than a higher one all the way down from `s = 1`
 //! (were it counted from full detail, every `s` whose triangles `s = 1`'s
@@ -113,6 +120,17 @@ struct Take {
     threshold: usize,
     triangle_budget: u64,
     allowance_deg: f32,
+    /// `v0` of [`margin`].
+    counted_from: f32,
+}
+
+/// How [`Selector::next_step`] prices a step.
+#[derive(Clone, Copy, Debug)]
+struct Pricing {
+    /// Whether `ln v` is weighed by the object's angular size.
+    weighted: bool,
+    /// `v0` of [`margin`].
+    counted_from: f32,
 }
 
 /// Bins of one tier of the cost histogram: bin 0 holds costs of 0 (steps
@@ -141,11 +159,13 @@ impl Step {
     }
 }
 
-/// `ln(max(1, v))`, `v = k / q`: how far an object of threshold `k` at
-/// `s = 1` lies above the critical acuity `q` of the transitions it
-/// crossed (c/diam both); 0 at or below the edge of visibility.
-fn margin(k_cdiam: f32, q_cdiam: f32) -> f32 {
-    (k_cdiam / q_cdiam).max(1.0).ln()
+/// `ln(max(1, v / v0))`, `v = k / q`: how far an object of threshold `k`
+/// at `s = 1` lies above the critical acuity `q` of the transitions it
+/// crossed (c/diam both), counted from `v0 = counted_from` (1: the edge of
+/// visibility; below it, from within the invisible zone); 0 at or below
+/// `v0`.
+fn margin(k_cdiam: f32, q_cdiam: f32, counted_from: f32) -> f32 {
+    (k_cdiam / (q_cdiam * counted_from)).max(1.0).ln()
 }
 
 /// The bin of `cost` within one tier, in `[0, COST_BINS)`.
@@ -195,7 +215,15 @@ impl Selector {
         let h = self.settings.budget_hysteresis;
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
-        // Pass 1: the LODs at `s_max`, and every later step's saving and
+        // With an allowance, visibility is counted from within the
+        // invisible zone, and the greedy starts from the LODs invisible
+        // from there on.
+        let counted_from = if allowance_deg > 0.0 {
+            super::VISIBILITY_COUNTED_FROM
+        } else {
+            1.0
+        };
+        // Pass 1: the LODs at `s_max / counted_from`, and every later step's saving and
         // added visibility binned by its cost; the steps kept per object
         // for passes 2 and 3.
         let mut saved_by_bin = [0u64; BINS];
@@ -212,7 +240,7 @@ impl Selector {
                 continue;
             }
             let p = self.object_profiles[slot] as usize;
-            let mut lod = self.lod_at(&entry, p, s_max);
+            let mut lod = self.lod_at(&entry, p, s_max / counted_from);
             // Within the dwell time after a coarsening, no switch back to
             // a finer LOD: a budget's coarsening undone a few frames later
             // is flicker, and keeping the coarser LOD only saves.
@@ -244,11 +272,15 @@ impl Selector {
             } else {
                 usize::MAX
             };
-            let mut next = self.next_step(slot, &entry, adjust, lod, s_min, weighted);
+            let pricing = Pricing {
+                weighted,
+                counted_from,
+            };
+            let mut next = self.next_step(slot, &entry, adjust, lod, s_min, pricing);
             if next.is_none() {
                 continue;
             }
-            let mut shown_deg = self.visibility_at(&entry, p, lod);
+            let mut shown_deg = self.visibility_at(&entry, p, lod, counted_from);
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 bin = bin.max(step.bin_given(kept, keep_factor, held));
                 saved_by_bin[bin] += u64::from(step.saved);
@@ -261,7 +293,7 @@ impl Selector {
                     scale: step.scale,
                     visibility_deg: step.visibility_deg,
                 });
-                next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, weighted);
+                next = self.next_step(slot, &entry, adjust, step.to_lod as usize, s_min, pricing);
             }
         }
         chain_start.push(chains.len() as u32);
@@ -289,6 +321,7 @@ impl Selector {
                         u64::MAX
                     },
                     allowance_deg: 0.0,
+                    counted_from,
                 }
             } else if !for_triangles && allowance_deg > 0.0 {
                 let mut shown = 0.0f32;
@@ -302,6 +335,7 @@ impl Selector {
                         .unwrap_or(BINS),
                     triangle_budget: u64::MAX,
                     allowance_deg,
+                    counted_from,
                 }
             } else {
                 continue;
@@ -361,7 +395,7 @@ impl Selector {
                     continue;
                 }
                 let p = self.object_profiles[slot] as usize;
-                let mut shown_deg = self.visibility_at(&entry, p, lod);
+                let mut shown_deg = self.visibility_at(&entry, p, lod, take.counted_from);
                 let mut left = chain.iter().filter(|step| usize::from(step.to_lod) > lod);
                 let mut not_taken = None;
                 for step in left.by_ref() {
@@ -411,6 +445,11 @@ impl Selector {
     /// One pass over the objects.
     pub fn selection_visibility_deg(&self) -> Option<f64> {
         let scale = self.recorded_scale?;
+        let counted_from = if self.settings.visibility_budget.deg_on(&self.display) > 0.0 {
+            super::VISIBILITY_COUNTED_FROM
+        } else {
+            1.0
+        };
         let mut sum = 0.0f64;
         for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
             let lod = match self.selections[slot].lod() {
@@ -423,20 +462,20 @@ impl Selector {
                 ..*entry
             };
             let p = self.object_profiles[slot] as usize;
-            sum += f64::from(self.visibility_at(&at_one, p, lod));
+            sum += f64::from(self.visibility_at(&at_one, p, lod, counted_from));
         }
         Some(sum)
     }
 
     /// `theta ln(max(1, v))` of an object of profile `p` at `lod` (its
     /// entry's threshold at `s = 1`), deg.
-    fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize) -> f32 {
+    fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize, counted_from: f32) -> f32 {
         if lod == 0 {
             return 0.0;
         }
         let n = self.profiles[p].lod_count;
         let q = self.rows[entry.row as usize + lod.min(n - 1) - 1];
-        let margin = margin(entry.k_cdiam, q);
+        let margin = margin(entry.k_cdiam, q, counted_from);
         if margin.is_finite() {
             margin * entry.angular_size_deg
         } else {
@@ -471,7 +510,7 @@ impl Selector {
         adjust: u32,
         lod: usize,
         s_min: f32,
-        weighted: bool,
+        pricing: Pricing,
     ) -> Option<Step> {
         let p = self.object_profiles[slot] as usize;
         let n = self.profiles[p].lod_count;
@@ -487,9 +526,13 @@ impl Selector {
             let after = self.drawn_triangles(p, adjust, j + 1);
             if after < now {
                 let saved = now - after;
-                let margin = margin(entry.k_cdiam, q);
+                let margin = margin(entry.k_cdiam, q, pricing.counted_from);
                 let visibility_deg = margin * entry.angular_size_deg;
-                let visibility = if weighted { visibility_deg } else { margin };
+                let visibility = if pricing.weighted {
+                    visibility_deg
+                } else {
+                    margin
+                };
                 return Some(Step {
                     cost: visibility / saved as f32,
                     scale,
