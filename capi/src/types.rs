@@ -151,8 +151,10 @@ pub struct AcuitySettings {
     /// frame while `s < 1`). Default 0: every object judged at `s`.
     pub budgeted_scale: u32,
     /// With `budgeted_scale`: the visibility summed over the image that a
-    /// selection may add beyond the LODs each invisible on its own, deg
-    /// (finite, >= 0; the runtime's `VisibilityBudget::Deg`; a budgeted
+    /// selection may add beyond the triangles from `s`, each step counted
+    /// from one octave inside the edge of visibility (the runtime's
+    /// `VISIBILITY_COUNTED_FROM`), deg (finite, >= 0; the runtime's
+    /// `VisibilityBudget::Deg`; a budgeted
     /// selection per frame at `s = 1` too), or
     /// `ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE`: the calibration that makes
     /// `s = 1` just imperceptible on the selector's display. Default 0:

@@ -495,10 +495,11 @@ pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 26.0;
 /// invisible alone still add up over an image (probability summation
 /// over its objects), and an object whose step saves many triangles then
 /// coarsens before many whose steps each lie just inside the edge and save
-/// few. One octave of frequency: features at twice the frequency the eye
-/// resolves at their contrast, where the contrast sensitivity function
-/// has fallen to a small fraction of its value at the edge, count as
-/// nothing. Fixed with [`IMPERCEPTIBLE_VISIBILITY_DEG`] on the same scenes
+/// few. One octave of frequency: a step whose features lie at twice the
+/// frequency the eye resolves at their contrast, where the contrast
+/// sensitivity function's fall at high frequencies leaves them well below
+/// threshold, counts as nothing (`v0 = 1/4`, its budget fixed by the same
+/// rule, measured alike). Fixed with [`IMPERCEPTIBLE_VISIBILITY_DEG`] on the same scenes
 /// (1, the edge itself, left the library's smooth spheres at 1.16x a
 /// screen-size table's triangles at equal JOD; 1/2 brought them to 0.95x).
 pub const VISIBILITY_COUNTED_FROM: f32 = 0.5;
