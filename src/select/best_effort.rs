@@ -223,9 +223,9 @@ impl Selector {
         } else {
             1.0
         };
-        // Pass 1: the LODs at `s_max / counted_from`, and every later step's saving and
-        // added visibility binned by its cost; the steps kept per object
-        // for passes 2 and 3.
+        // Pass 1: the LODs at `s_max / counted_from`, and every later
+        // step's saving and added visibility binned by its cost; the steps
+        // kept per object for passes 2 and 3.
         let mut saved_by_bin = [0u64; BINS];
         let mut visibility_by_bin = [0f32; BINS];
         let mut triangles = self.single_triangles();
@@ -431,10 +431,12 @@ impl Selector {
 
     /// The last frame's selection in this module's measure of visibility:
     /// the sum over the visible objects with more than one LOD of
-    /// `theta ln(max(1, v))` for the LOD each draws (`theta` its angular
-    /// size, deg; `v = k / q`, `k` its threshold at `s = 1` and `q` the
-    /// prefix minimum of the transitions up to that LOD), in deg. 0 when
-    /// every object draws a LOD invisible on its own at `s = 1`; larger
+    /// `theta ln(max(1, v / v0))` for the LOD each draws (`theta` its
+    /// angular size, deg; `v = k / q`, `k` its threshold at `s = 1` and `q`
+    /// the prefix minimum of the transitions up to that LOD; `v0`
+    /// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM) with a
+    /// visibility budget, else 1), in deg. 0 when every object draws a
+    /// LOD invisible from `v0` on; larger
     /// the further, and on the larger objects, the LODs drawn lie beyond.
     /// An estimate of how much of the image differs from full detail, as
     /// best effort ranks steps by it; `None` when the frame recorded no
