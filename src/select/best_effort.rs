@@ -168,6 +168,17 @@ fn margin(k_cdiam: f32, q_cdiam: f32, counted_from: f32) -> f32 {
     (k_cdiam / (q_cdiam * counted_from)).max(1.0).ln()
 }
 
+/// `v0` of [`margin`] under a visibility budget of `allowance_deg`:
+/// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM), within the
+/// invisible zone, with one (`> 0`); the edge of visibility, 1, without.
+fn counted_from(allowance_deg: f32) -> f32 {
+    if allowance_deg > 0.0 {
+        super::VISIBILITY_COUNTED_FROM
+    } else {
+        1.0
+    }
+}
+
 /// The bin of `cost` within one tier, in `[0, COST_BINS)`.
 fn bin_of(cost: f32) -> usize {
     if cost.is_nan() {
@@ -215,14 +226,9 @@ impl Selector {
         let h = self.settings.budget_hysteresis;
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
-        // With an allowance, visibility is counted from within the
-        // invisible zone, and the greedy starts from the LODs invisible
-        // from there on.
-        let counted_from = if allowance_deg > 0.0 {
-            super::VISIBILITY_COUNTED_FROM
-        } else {
-            1.0
-        };
+        // With an allowance, the greedy starts from the LODs invisible
+        // from `counted_from` on.
+        let counted_from = counted_from(allowance_deg);
         // Pass 1: the LODs at `s_max / counted_from`, and every later
         // step's saving and added visibility binned by its cost; the steps
         // kept per object for passes 2 and 3.
@@ -447,11 +453,7 @@ impl Selector {
     /// One pass over the objects.
     pub fn selection_visibility_deg(&self) -> Option<f64> {
         let scale = self.recorded_scale?;
-        let counted_from = if self.settings.visibility_budget.deg_on(&self.display) > 0.0 {
-            super::VISIBILITY_COUNTED_FROM
-        } else {
-            1.0
-        };
+        let counted_from = counted_from(self.settings.visibility_budget.deg_on(&self.display));
         let mut sum = 0.0f64;
         for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
             let lod = match self.selections[slot].lod() {
