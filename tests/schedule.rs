@@ -1118,3 +1118,19 @@ fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_
         "within a quarter of the aim at frame {slowest}"
     );
 }
+
+#[test]
+fn a_nan_floor_is_the_default_floor() {
+    let mut settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
+    let floor_of = |settings: ReactiveSettings| {
+        let mut sched = ReactiveScheduler::new(settings);
+        for _ in 0..200 {
+            sched.update(1.0);
+        }
+        sched.scale()
+    };
+    let default_floor = floor_of(settings);
+    assert_eq!(default_floor, acuity::DEFAULT_MIN_SCALE);
+    settings.min_scale = f32::NAN;
+    assert_eq!(floor_of(settings), default_floor);
+}
