@@ -175,7 +175,12 @@ fn experiments_run_small_and_write_their_files() {
     for n in ["n0003_trial0", "n0006_trial0"] {
         let trial = dir.join("speedup-frames").join(n);
         assert!(trial.join("display.json").is_file(), "{n}");
-        for seq in ["full_1", "acuity_all_1", "acuity_ecc_vel_1"] {
+        for seq in [
+            "full_1",
+            "acuity_all_1",
+            "acuity_ecc_vel_1",
+            "acuity_all_pooled_1",
+        ] {
             check_sequence(&trial.join(seq), 2);
         }
     }

@@ -8,7 +8,11 @@
 //! mean frame time and in triangles, and the average LOD (1 = finest, as
 //! the paper numbers them) of the drawn objects with all criteria versus
 //! velocity + eccentricity, from which the size component's share of the
-//! reduction is `1 - (lod_ev - 1) / (lod_all - 1)`.
+//! reduction is `1 - (lod_ev - 1) / (lod_all - 1)`. Beside the paper's
+//! full acuity (each object's detail invisible on its own), the flight is
+//! flown with the runtime's just-imperceptible settings at `s = 1`
+//! (`acuity_all_pooled`: visibility summed over the image up to the
+//! calibrated budget), the `s = 1` a user of the runtime ships.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -79,6 +83,10 @@ pub struct SpeedupTrial {
     pub full_triangles: f64,
     /// Mean triangles per frame, full acuity.
     pub acuity_triangles: f64,
+    /// Mean frame time with the just-imperceptible settings, ms.
+    pub imperceptible_ms: f64,
+    /// Mean triangles per frame with the just-imperceptible settings.
+    pub imperceptible_triangles: f64,
     /// Average LOD (1 = finest) of drawn objects, all criteria.
     pub lod_all: f64,
     /// Average LOD (1 = finest) of drawn objects, velocity + eccentricity.
@@ -94,6 +102,17 @@ impl SpeedupTrial {
     /// Full detail's mean triangles over full acuity's.
     pub fn speedup_triangles(&self) -> f64 {
         self.full_triangles / self.acuity_triangles
+    }
+
+    /// Full detail's mean frame time over the just-imperceptible
+    /// settings'.
+    pub fn speedup_time_imperceptible(&self) -> f64 {
+        self.full_ms / self.imperceptible_ms
+    }
+
+    /// Full detail's mean triangles over the just-imperceptible settings'.
+    pub fn speedup_triangles_imperceptible(&self) -> f64 {
+        self.full_triangles / self.imperceptible_triangles
     }
 }
 
@@ -154,7 +173,12 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
     let mut settings = PlaySettings::from_scene(&scene, Some(args.frames))?;
     settings.flip_every_n_frames = 0;
     settings.keep_images = false;
-    settings.policies = vec![Policy::Full, Policy::AcuityAll, Policy::AcuityEccVel];
+    settings.policies = vec![
+        Policy::Full,
+        Policy::AcuityAll,
+        Policy::AcuityEccVel,
+        Policy::AcuityAllPooled,
+    ];
     let mut trials = Vec::new();
     let bar = crate::progress::bar(
         (args.counts.len() as u64)
@@ -191,15 +215,19 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
                 acuity_triangles: sums[1].triangles,
                 lod_all: sums[1].mean_lod + 1.0,
                 lod_ecc_vel: sums[2].mean_lod + 1.0,
+                imperceptible_ms: sums[3].mean_ms,
+                imperceptible_triangles: sums[3].triangles,
             };
             if !args.profiles.quiet {
                 bar.suspend(|| {
                     eprintln!(
-                        "N={count:<5} seed={seed:<6} speedup {:.2}x time, {:.2}x triangles; LOD all {:.2}, ecc+vel {:.2}",
+                        "N={count:<5} seed={seed:<6} speedup {:.2}x time, {:.2}x triangles; LOD all {:.2}, ecc+vel {:.2}; just imperceptible {:.2}x time, {:.2}x triangles",
                         t.speedup_time(),
                         t.speedup_triangles(),
                         t.lod_all,
-                        t.lod_ecc_vel
+                        t.lod_ecc_vel,
+                        t.speedup_time_imperceptible(),
+                        t.speedup_triangles_imperceptible()
                     )
                 });
             }
@@ -213,12 +241,12 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
         .unwrap_or_else(|| Path::new("out").join("experiment-speedup"));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let mut csv = String::from(
-        "count,seed,full_ms,acuity_ms,speedup_time,full_triangles,acuity_triangles,speedup_triangles,lod_all,lod_ecc_vel,size_share\n",
+        "count,seed,full_ms,acuity_ms,speedup_time,full_triangles,acuity_triangles,speedup_triangles,lod_all,lod_ecc_vel,size_share,imperceptible_ms,speedup_time_imperceptible,imperceptible_triangles,speedup_triangles_imperceptible\n",
     );
     for t in &trials {
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.4},{:.1},{:.1},{:.4},{:.4},{:.4},{:.4}",
+            "{},{},{:.4},{:.4},{:.4},{:.1},{:.1},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.4}",
             t.count,
             t.seed,
             t.full_ms,
@@ -229,7 +257,11 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
             t.speedup_triangles(),
             t.lod_all,
             t.lod_ecc_vel,
-            size_share(t.lod_all, t.lod_ecc_vel)
+            size_share(t.lod_all, t.lod_ecc_vel),
+            t.imperceptible_ms,
+            t.speedup_time_imperceptible(),
+            t.imperceptible_triangles,
+            t.speedup_triangles_imperceptible()
         );
     }
     let csv_path = out.join("speedup.csv");
@@ -244,26 +276,27 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
             })
             .collect()
     };
-    let table_rows = (
-        per_count(&|t| t.speedup_time()),
-        per_count(&|t| t.speedup_triangles()),
-        per_count(&|t| t.lod_all),
-        per_count(&|t| t.lod_ecc_vel),
-    );
+    let time = per_count(&|t| t.speedup_time());
+    let triangles = per_count(&|t| t.speedup_triangles());
+    let lod_all = per_count(&|t| t.lod_all);
+    let lod_ecc_vel = per_count(&|t| t.lod_ecc_vel);
+    let time_imperceptible = per_count(&|t| t.speedup_time_imperceptible());
+    let triangles_imperceptible = per_count(&|t| t.speedup_triangles_imperceptible());
     let mut table = String::new();
     let _ = writeln!(
         table,
-        "{:>6} {:>14} {:>14} {:>9} {:>9} {:>10}",
-        "N", "speedup time", "speedup tris", "LOD all", "LOD e+v", "size share"
+        "{:>6} {:>14} {:>14} {:>9} {:>9} {:>10} {:>14} {:>14}",
+        "N",
+        "speedup time",
+        "speedup tris",
+        "LOD all",
+        "LOD e+v",
+        "size share",
+        "imperc. time",
+        "imperc. tris"
     );
     for i in 0..args.counts.len() {
-        let (a, b, c, d) = (
-            table_rows.0[i].1,
-            table_rows.1[i].1,
-            table_rows.2[i].1,
-            table_rows.3[i].1,
-        );
-        let share = size_share(c, d);
+        let share = size_share(lod_all[i].1, lod_ecc_vel[i].1);
         let share = if share.is_nan() {
             "none".to_string()
         } else {
@@ -271,23 +304,43 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
         };
         let _ = writeln!(
             table,
-            "{:>6} {:>13.2}x {:>13.2}x {:>9.2} {:>9.2} {:>10}",
-            args.counts[i], a, b, c, d, share
+            "{:>6} {:>13.2}x {:>13.2}x {:>9.2} {:>9.2} {:>10} {:>13.2}x {:>13.2}x",
+            args.counts[i],
+            time[i].1,
+            triangles[i].1,
+            lod_all[i].1,
+            lod_ecc_vel[i].1,
+            share,
+            time_imperceptible[i].1,
+            triangles_imperceptible[i].1
         );
     }
+    let _ = writeln!(
+        table,
+        "\nspeedup: full acuity (each object's detail invisible on its own) over full detail;\n\
+         imperc.: the runtime's just-imperceptible settings at s = 1 over full detail"
+    );
     save_line_plot(
         &LinePlot {
-            title: "speedup of full acuity over full detail".into(),
+            title: "speedup over full detail at s = 1".into(),
             x_label: "objects N (log)".into(),
             y_label: "speedup (x)".into(),
             series: vec![
                 Series {
-                    name: "frame time".into(),
-                    points: table_rows.0.clone(),
+                    name: "full acuity, frame time".into(),
+                    points: time,
                 },
                 Series {
-                    name: "triangles".into(),
-                    points: table_rows.1.clone(),
+                    name: "full acuity, triangles".into(),
+                    points: triangles,
+                },
+                Series {
+                    name: "just imperceptible, frame time".into(),
+                    points: time_imperceptible,
+                },
+                Series {
+                    name: "just imperceptible, triangles".into(),
+                    points: triangles_imperceptible,
                 },
             ],
             log_x: true,
@@ -304,11 +357,11 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
             series: vec![
                 Series {
                     name: "all criteria".into(),
-                    points: table_rows.2,
+                    points: lod_all,
                 },
                 Series {
                     name: "velocity + eccentricity".into(),
-                    points: table_rows.3,
+                    points: lod_ecc_vel,
                 },
             ],
             log_x: true,
