@@ -471,8 +471,8 @@ impl Selector {
         Some(sum)
     }
 
-    /// `theta ln(max(1, v))` of an object of profile `p` at `lod` (its
-    /// entry's threshold at `s = 1`), deg.
+    /// `theta ln(max(1, v / v0))`, `v0 = counted_from`, of an object of
+    /// profile `p` at `lod` (its entry's threshold at `s = 1`), deg.
     fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize, counted_from: f32) -> f32 {
         if lod == 0 {
             return 0.0;
