@@ -182,8 +182,8 @@ pub struct SelectorSettings {
     pub parallel_min_objects: usize,
     /// Lowest `s` the budgeted selection may use, in `(0, 1]` (default
     /// [`DEFAULT_MIN_SCALE`], 1e-3; below [`LOWEST_MIN_SCALE`] it is
-    /// raised to it, NaN is the default). A budget it cannot meet with every step down to this
-    /// `s` stops there, over budget.
+    /// raised to it; NaN is the default). A budget it cannot meet with
+    /// every step down to this `s` stops there, over budget.
     pub min_scale: f32,
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
