@@ -484,15 +484,22 @@ fn the_imperceptible_budget_is_the_calibration_on_the_selectors_display_and_foll
 fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
     // NaN, infinite, zero, negative or above 1: the selection reaches no
     // scale outside `[LOWEST_MIN_SCALE, 1]`.
+    let frame = frame_at(DVec3::ZERO, 0.016);
     for rule in [BudgetRule::BestEffort, BudgetRule::UniformScale] {
-        for floor in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -1.0, 2.0] {
+        let scene = |min_scale| {
             let settings = SelectorSettings {
-                min_scale: floor,
+                min_scale,
                 budget_rule: rule,
                 ..SelectorSettings::default()
             };
-            let (mut sel, _) = random_scene(settings, 500, 7, DVec3::ZERO);
-            let frame = frame_at(DVec3::ZERO, 0.016);
+            random_scene(settings, 500, 7, DVec3::ZERO).0
+        };
+        for floor in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -1.0, 2.0] {
+            let mut sel = scene(floor);
+            // A NaN floor selects as the default floor, frame by frame.
+            let mut with_default = floor
+                .is_nan()
+                .then(|| scene(SelectorSettings::default().min_scale));
             for budget in [10, 20_000, u64::MAX] {
                 let out = sel.select_within_budget(&frame, budget).unwrap();
                 assert!(
@@ -500,17 +507,8 @@ fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
                     "{rule:?}, floor {floor}, budget {budget}: {out:?}"
                 );
                 assert_eq!(out.triangles, sel.triangles());
-                if floor.is_nan() {
-                    let (mut with_default, _) = random_scene(
-                        SelectorSettings {
-                            budget_rule: rule,
-                            ..SelectorSettings::default()
-                        },
-                        500,
-                        7,
-                        DVec3::ZERO,
-                    );
-                    let default = with_default.select_within_budget(&frame, budget).unwrap();
+                if let Some(reference) = &mut with_default {
+                    let default = reference.select_within_budget(&frame, budget).unwrap();
                     assert_eq!(out, default, "{rule:?}: NaN is the default floor");
                 }
             }

@@ -498,10 +498,11 @@ pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 26.0;
 /// few. One octave of frequency: a step whose features lie at twice the
 /// frequency the eye resolves at their contrast, where the contrast
 /// sensitivity function's fall at high frequencies leaves them well below
-/// threshold, counts as nothing (`v0 = 1/4`, its budget fixed by the same
-/// rule, measured alike). Fixed with [`IMPERCEPTIBLE_VISIBILITY_DEG`] on the same scenes
-/// (1, the edge itself, left the library's smooth spheres at 1.16x a
-/// screen-size table's triangles at equal JOD; 1/2 brought them to 0.95x).
+/// threshold, counts as nothing (two octaves, `v0 = 1/4`, with its budget
+/// fixed by the same rule, measured alike). Fixed with
+/// [`IMPERCEPTIBLE_VISIBILITY_DEG`] on the same scenes (counted from the
+/// edge itself, 1, the library's smooth spheres needed 1.16x a
+/// screen-size table's triangles at equal JOD; from 1/2, 0.91x).
 pub const VISIBILITY_COUNTED_FROM: f32 = 0.5;
 
 /// The lowest `s` a frame-rate scheduler may use by default:
