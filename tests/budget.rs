@@ -483,7 +483,8 @@ fn the_imperceptible_budget_is_the_calibration_on_the_selectors_display_and_foll
 #[test]
 fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
     // NaN, infinite, zero, negative or above 1: the selection reaches no
-    // scale outside `[LOWEST_MIN_SCALE, 1]`.
+    // scale outside `[LOWEST_MIN_SCALE, 1]`, and a floor that is not
+    // finite is the default one.
     let frame = frame_at(DVec3::ZERO, 0.016);
     for rule in [BudgetRule::BestEffort, BudgetRule::UniformScale] {
         let scene = |min_scale| {
@@ -496,10 +497,10 @@ fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
         };
         for floor in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -1.0, 2.0] {
             let mut sel = scene(floor);
-            // A NaN floor selects as the default floor, frame by frame.
-            let mut with_default = floor
-                .is_nan()
-                .then(|| scene(SelectorSettings::default().min_scale));
+            // A floor that is not finite selects as the default floor,
+            // frame by frame (as the schedulers read it).
+            let mut with_default =
+                (!floor.is_finite()).then(|| scene(SelectorSettings::default().min_scale));
             for budget in [10, 20_000, u64::MAX] {
                 let out = sel.select_within_budget(&frame, budget).unwrap();
                 assert!(
@@ -509,7 +510,7 @@ fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
                 assert_eq!(out.triangles, sel.triangles());
                 if let Some(reference) = &mut with_default {
                     let default = reference.select_within_budget(&frame, budget).unwrap();
-                    assert_eq!(out, default, "{rule:?}: NaN is the default floor");
+                    assert_eq!(out, default, "{rule:?}: {floor} is the default floor");
                 }
             }
         }

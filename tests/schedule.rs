@@ -1120,7 +1120,7 @@ fn started_at_its_lowest_s_the_reactive_controller_climbs_to_the_target_without_
 }
 
 #[test]
-fn a_nan_floor_is_the_default_floor() {
+fn a_floor_that_is_not_finite_is_the_default_floor() {
     let mut settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
     let floor_of = |settings: ReactiveSettings| {
         let mut sched = ReactiveScheduler::new(settings);
@@ -1131,6 +1131,14 @@ fn a_nan_floor_is_the_default_floor() {
     };
     let default_floor = floor_of(settings);
     assert_eq!(default_floor, acuity::DEFAULT_MIN_SCALE);
-    settings.min_scale = f32::NAN;
-    assert_eq!(floor_of(settings), default_floor);
+    // Not finite: the default, as the budgeted selection reads it.
+    for floor in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        settings.min_scale = floor;
+        assert_eq!(floor_of(settings), default_floor, "{floor}");
+    }
+    // Finite: clamped into [LOWEST_MIN_SCALE, 1].
+    settings.min_scale = 2.0;
+    assert_eq!(floor_of(settings), 1.0);
+    settings.min_scale = -1.0;
+    assert_eq!(floor_of(settings), acuity::LOWEST_MIN_SCALE);
 }

@@ -88,7 +88,8 @@ pub struct ReactiveSettings {
     /// budgeted selection's
     /// [`SelectorSettings::min_scale`](crate::SelectorSettings::min_scale);
     /// below [`LOWEST_MIN_SCALE`](crate::LOWEST_MIN_SCALE) it is raised to
-    /// it; NaN is the default).
+    /// it, above 1 lowered to 1; not finite, NaN included, it is the
+    /// default).
     pub min_scale: f32,
     /// Exponent of the multiplicative step: `s *= (aim / frame)^gain`.
     /// 0.5 moves half-way (in log terms) towards the estimated fit.
@@ -171,8 +172,7 @@ impl ReactiveSettings {
         };
         s.headroom = finite_or(s.headroom, 0.9).clamp(0.5, 1.0);
         s.variation_z = finite_or(s.variation_z, 2.0).clamp(0.0, 10.0);
-        s.min_scale =
-            finite_or(s.min_scale, crate::DEFAULT_MIN_SCALE).clamp(crate::LOWEST_MIN_SCALE, 1.0);
+        s.min_scale = crate::select::effective_min_scale(s.min_scale);
         s.gain = finite_or(s.gain, 0.5).clamp(0.01, 1.0);
         s.dead_band = finite_or(s.dead_band, 0.1).clamp(0.0, 0.9);
         s.settle_frames = s.settle_frames.max(1);

@@ -182,8 +182,9 @@ pub struct SelectorSettings {
     pub parallel_min_objects: usize,
     /// Lowest `s` the budgeted selection may use, in `(0, 1]` (default
     /// [`DEFAULT_MIN_SCALE`], 1e-3; below [`LOWEST_MIN_SCALE`] it is
-    /// raised to it; NaN is the default). A budget it cannot meet with
-    /// every step down to this `s` stops there, over budget.
+    /// raised to it, above 1 lowered to 1; not finite, NaN included, it is
+    /// the default). A budget it cannot meet with every step down to this
+    /// `s` stops there, over budget.
     pub min_scale: f32,
     /// How [`Selector::select_within_budget`] spends a triangle budget
     /// (default: [`BudgetRule::BestEffort`]).
@@ -518,6 +519,17 @@ pub const DEFAULT_MIN_SCALE: f32 = 1e-3;
 /// The lowest `min_scale` either setting takes; a lower one is raised to
 /// it.
 pub const LOWEST_MIN_SCALE: f32 = 1e-6;
+
+/// A `min_scale` as both settings read it: clamped into
+/// `[LOWEST_MIN_SCALE, 1]`, and [`DEFAULT_MIN_SCALE`] where it is not
+/// finite (NaN and both infinities).
+pub(crate) fn effective_min_scale(min_scale: f32) -> f32 {
+    if min_scale.is_finite() {
+        min_scale.clamp(LOWEST_MIN_SCALE, 1.0)
+    } else {
+        DEFAULT_MIN_SCALE
+    }
+}
 
 /// [`SelectorSettings::switch_hysteresis`] of the steady switch rules
 /// ([`SelectorSettings::just_imperceptible`], and the lab's schedulers):

@@ -457,16 +457,10 @@ impl Selector {
         let s_max = checked_scale(frame.scale)?;
         self.run(frame, 1.0, diagnostics, true)?;
         self.bias_budget_entries();
-        // The lowest `s` a step may need: `min_scale` (NaN: the default),
-        // or a lower `s` whose triangles are the budget (every step the
-        // uniform rule takes there).
-        let min_scale = self.settings.min_scale;
-        let min_scale = if min_scale.is_nan() {
-            super::DEFAULT_MIN_SCALE
-        } else {
-            min_scale
-        }
-        .clamp(super::LOWEST_MIN_SCALE, s_max);
+        // The lowest `s` a step may need: `min_scale` (not finite: the
+        // default), or a lower `s` whose triangles are the budget (every
+        // step the uniform rule takes there).
+        let min_scale = super::effective_min_scale(self.settings.min_scale).min(s_max);
         let from_scale = matches!(budget, Budget::UniformAt(_));
         // A budget from `s` is the scheduler's soft target: within the
         // dwell time after a switch an object does not switch back however
