@@ -58,7 +58,17 @@ fn experiments_run_small_and_write_their_files() {
             ]
             .iter()
             .map(|x| x.to_string())
-            .chain(["--biases", "1", "--scales", "1,0.5", "--out"].map(String::from))
+            .chain(
+                [
+                    "--biases",
+                    "0.25,1",
+                    "--scales",
+                    "1,0.5",
+                    "--matched",
+                    "--out",
+                ]
+                .map(String::from),
+            )
             .chain([out("error")])
             .collect(),
             "error",
@@ -171,6 +181,31 @@ fn experiments_run_small_and_write_their_files() {
             "{policy}: {floored:?}"
         );
     }
+    // Best effort under screen size's triangles of each frame draws no
+    // more than screen size at the same bias, and fewer than acuity at
+    // `s = 1` where that bias draws fewer.
+    let error = std::fs::read_to_string(dir.join("error").join("error.csv")).unwrap();
+    let header: Vec<&str> = error.lines().next().unwrap().split(',').collect();
+    let tris_at = header.iter().position(|&h| h == "triangles").unwrap();
+    let triangles = |policy: &str, knob: &str| -> f64 {
+        let row = error
+            .lines()
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .find(|r| r[0] == policy && r[1] == knob)
+            .unwrap_or_else(|| panic!("{policy} {knob}: {error}"));
+        row[tris_at].parse().unwrap()
+    };
+    for bias in ["0.25", "1"] {
+        let (matched, screen) = (
+            triangles("acuity_best_effort_matched", bias),
+            triangles("screen_size", bias),
+        );
+        assert!(matched <= screen + 1e-9, "bias {bias}: {error}");
+    }
+    assert!(
+        triangles("acuity_best_effort_matched", "0.25") < triangles("acuity_all", "1"),
+        "{error}"
+    );
     // Speedup dumps per N and trial.
     for n in ["n0003_trial0", "n0006_trial0"] {
         let trial = dir.join("speedup-frames").join(n);

@@ -14,7 +14,7 @@
 //! frame-time differences come from LOD choices alone.
 
 use crate::crossfade::{CrossFades, FadeOut};
-use crate::frames::{FrameView, World};
+use crate::frames::{FrameView, Instance, World};
 use crate::limits::MIN_SCALE;
 use crate::scene::Policy;
 use crate::screen_size::{
@@ -58,6 +58,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
         | Policy::AcuityBestEffortUnweighted
+        | Policy::AcuityBestEffortMatched
         | Policy::AcuityBudgetUniform => c(true, true, true),
     }
 }
@@ -91,6 +92,73 @@ fn climbing_reactive(settings: ReactiveSettings, cost: CostModel) -> ReactiveSch
         .starting_at(settings.min_scale)
 }
 
+/// A selector with `settings` holding every instance of `world`, and the
+/// instances' ids in instance order.
+fn selector_over(
+    world: &World,
+    settings: SelectorSettings,
+) -> anyhow::Result<(Selector, Vec<ObjectId>)> {
+    let mut selector = Selector::new(world.display, settings);
+    let profiles = world
+        .objects
+        .iter()
+        .map(|o| {
+            selector
+                .add_profile(&o.profile)
+                .map_err(|e| anyhow::Error::new(e).context(format!("object `{}`: profile", o.name)))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let ids = world
+        .instances
+        .iter()
+        .map(|i| {
+            selector
+                .add_object(ObjectDesc {
+                    center: i.center_m,
+                    radius: i.radius_m as f32,
+                    rotation: i.placement.rotation.as_quat(),
+                    profile: profiles[i.object],
+                })
+                .map_err(|e| {
+                    anyhow::Error::new(e).context(format!(
+                        "object `{}` copy {}",
+                        world.objects[i.object].name, i.copy
+                    ))
+                })
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    Ok((selector, ids))
+}
+
+/// The screen-size table's LOD for one instance in a view (`None`: below
+/// the table's last threshold, culled), its relative height times
+/// `height_scale` (and, with the scene's `screen_size_foveated`, the
+/// observer's eccentricity factor at its angle from the gaze).
+fn screen_size_lod(
+    world: &World,
+    view: &FrameView,
+    tables: &[ScreenSizeLod],
+    inst: &Instance,
+    height_scale: f64,
+) -> Option<usize> {
+    let fov_v = world.scene.display.screen_height_fov_deg();
+    let to_object_m = inst.center_m - view.eye_m;
+    let mut h = relative_height(inst.radius_m, to_object_m.length(), fov_v) * height_scale;
+    if world.scene.run.screen_size_foveated {
+        let in_camera = view.orientation.inverse() * to_object_m;
+        let eccentricity_deg = in_camera.angle_between(view.gaze_camera);
+        let m = world
+            .scene
+            .eccentricity_model
+            .factor(eccentricity_deg.to_degrees() as f32);
+        h *= f64::from(m);
+    }
+    match tables[inst.object].select_relative_height(h) {
+        ScreenSizeChoice::Lod(l) => Some(l),
+        ScreenSizeChoice::Culled => None,
+    }
+}
+
 /// A policy's fixed-frame-rate controller.
 enum Scheduler {
     /// Reactive: `s` from measured frame times, with a cost model for the
@@ -118,6 +186,10 @@ pub struct PolicyRunner {
     /// Full detail's triangles over the objects in view last frame (all
     /// objects before the first): what the share applies to.
     full_detail_triangles: u64,
+    /// [`Policy::AcuityBestEffortMatched`]'s culling selector: the
+    /// objects in view this frame, whose screen-size triangles make the
+    /// budget.
+    culling: Option<(Selector, Vec<ObjectId>)>,
     /// The screen-size policy's fades (its LODs are not the selector's).
     screen_fades: Option<CrossFades>,
     fades: Vec<Option<FadeOut>>,
@@ -206,35 +278,15 @@ impl PolicyRunner {
             min_scale: world.scene.run.min_scale,
             ..base
         };
-        let mut selector = Selector::new(world.display, settings);
-        let profiles = world
-            .objects
-            .iter()
-            .map(|o| {
-                selector.add_profile(&o.profile).map_err(|e| {
-                    anyhow::Error::new(e).context(format!("object `{}`: profile", o.name))
-                })
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        let ids = world
-            .instances
-            .iter()
-            .map(|i| {
-                selector
-                    .add_object(ObjectDesc {
-                        center: i.center_m,
-                        radius: i.radius_m as f32,
-                        rotation: i.placement.rotation.as_quat(),
-                        profile: profiles[i.object],
-                    })
-                    .map_err(|e| {
-                        anyhow::Error::new(e).context(format!(
-                            "object `{}` copy {}",
-                            world.objects[i.object].name, i.copy
-                        ))
-                    })
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
+        let (selector, ids) = selector_over(world, settings)?;
+        // The matched budget counts the objects in view this frame: a
+        // second selector, with the same frustum test, culls before the
+        // budgeted selection runs.
+        let culling = if policy == Policy::AcuityBestEffortMatched {
+            Some(selector_over(world, settings)?)
+        } else {
+            None
+        };
         let screen = world
             .objects
             .iter()
@@ -288,6 +340,7 @@ impl PolicyRunner {
             scale,
             scheduler,
             budget_share: policy.is_budgeted().then_some(1.0),
+            culling,
             full_detail_triangles: world
                 .instances
                 .iter()
@@ -371,13 +424,34 @@ impl PolicyRunner {
             visibility_deg: None,
             at_limit: at_lowest_scale,
         };
+        let matched_budget = match &mut self.culling {
+            Some((culling, culling_ids)) => {
+                culling.select(&frame)?;
+                let in_view = world
+                    .instances
+                    .iter()
+                    .zip(culling_ids.iter())
+                    .filter(|(_, id)| !culling.selection(**id).is_culled());
+                Some(
+                    in_view
+                        .filter_map(|(inst, _)| {
+                            let lod = screen_size_lod(world, view, &self.screen, inst, 1.0)?;
+                            Some(u64::from(
+                                world.objects[inst.object].profile.lod_triangles[lod],
+                            ))
+                        })
+                        .sum(),
+                )
+            }
+            None => None,
+        };
         let budget = match (&mut self.scheduler, self.budget_share) {
             (Some(Scheduler::Predictive(p)), _) => Some(p.triangle_budget()),
             (Some(Scheduler::PredictiveNoHeadroom(cost)), _) => {
                 Some(cost.triangle_budget(1.0 / world.scene.run.target_hz as f32))
             }
             (_, Some(share)) => Some((share * self.full_detail_triangles as f64) as u64),
-            _ => None,
+            _ => matched_budget,
         };
         match budget {
             Some(budget) => {
@@ -404,7 +478,6 @@ impl PolicyRunner {
                 .sum();
         }
         lods.clear();
-        let fov_v = world.scene.display.screen_height_fov_deg();
         // Under the reactive scheduler, screen size's bias times its `s`.
         let screen_scale = if self.policy.is_screen_size() && self.policy.is_scheduled() {
             f64::from(choice.scale)
@@ -417,22 +490,7 @@ impl PolicyRunner {
                 _ if sel.is_culled() => None,
                 Policy::Full => Some(0),
                 _ if self.policy.is_screen_size() => {
-                    let to_object_m = inst.center_m - view.eye_m;
-                    let mut h =
-                        relative_height(inst.radius_m, to_object_m.length(), fov_v) * screen_scale;
-                    if world.scene.run.screen_size_foveated {
-                        let in_camera = view.orientation.inverse() * to_object_m;
-                        let eccentricity_deg = in_camera.angle_between(view.gaze_camera);
-                        let m = world
-                            .scene
-                            .eccentricity_model
-                            .factor(eccentricity_deg.to_degrees() as f32);
-                        h *= f64::from(m);
-                    }
-                    match self.screen[inst.object].select_relative_height(h) {
-                        ScreenSizeChoice::Lod(l) => Some(l),
-                        ScreenSizeChoice::Culled => None,
-                    }
+                    screen_size_lod(world, view, &self.screen, inst, screen_scale)
                 }
                 _ => sel.lod(),
             };

@@ -29,6 +29,8 @@ pub struct Summary {
     pub p95_ms: f64,
     /// Mean triangles per frame.
     pub triangles: f64,
+    /// Most triangles in one frame (what a frame budget must hold).
+    pub triangles_max: f64,
     /// Mean draw calls per frame.
     pub draw_calls: f64,
     /// Mean LOD index over drawn instances and frames (0 = finest).
@@ -115,6 +117,11 @@ pub fn summarize(runs: &[PolicyRun], budget_s: f64) -> Vec<Summary> {
                 mean_ms: ms(r),
                 p95_ms: quantile(&times, 0.95),
                 triangles: tris(r),
+                triangles_max: r
+                    .frames
+                    .iter()
+                    .map(|f| f.triangles as f64)
+                    .fold(0.0, f64::max),
                 draw_calls: mean(r.frames.iter().map(|f| f64::from(f.draw_calls))),
                 mean_lod: mean(
                     r.frames

@@ -167,6 +167,7 @@ mod tests {
             mean_ms,
             p95_ms: mean_ms,
             triangles: 1000.0,
+            triangles_max: 1000.0,
             draw_calls: 1.0,
             mean_lod: 0.0,
             speedup: None,

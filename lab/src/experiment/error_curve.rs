@@ -40,6 +40,12 @@ pub struct ErrorArgs {
     /// (default: none).
     #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub budgets: Vec<f64>,
+    /// Also run `acuity_best_effort_matched` at each screen-size bias:
+    /// best effort under, in each frame, the triangles screen size draws
+    /// in that frame, so the two rankings meet at equal triangles frame by
+    /// frame.
+    #[cfg_attr(feature = "clap", arg(long))]
+    pub matched: bool,
     /// Frames per configuration, spread over the scene's path.
     #[cfg_attr(feature = "clap", arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=crate::scene::MAX_FRAMES as i64)))]
     pub frames: u32,
@@ -79,6 +85,7 @@ impl Default for ErrorArgs {
             scales: vec![1.0, 0.5, 0.25, 0.125, 0.0625],
             acuity_policies: vec!["acuity_size".into(), "acuity_all".into()],
             budgets: Vec::new(),
+            matched: false,
             frames: 30,
             flip_every: 3,
             metric: vec![Metric::Flip],
@@ -146,6 +153,10 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
     for p in Policy::BUDGETED {
         configs.extend(args.budgets.iter().map(|&b| (p, b)));
     }
+    if args.matched {
+        let matched = Policy::AcuityBestEffortMatched;
+        configs.extend(args.biases.iter().map(|&b| (matched, b)));
+    }
     let mut player = Player::new(&world, settings.clone())?;
     let bar = crate::progress::bar(
         u64::from(settings.frames) * configs.len() as u64,
@@ -175,6 +186,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         Series {
             name: match p {
                 Policy::ScreenSize => "screen size (bias)".into(),
+                Policy::AcuityBestEffortMatched => format!("{} (bias)", p.name()),
                 _ if p.is_budgeted() => format!("{} (budget)", p.name()),
                 _ => format!("{} (s)", p.name()),
             },
@@ -226,6 +238,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
                             .into_iter()
                             .filter(|_| !args.budgets.is_empty()),
                     )
+                    .chain(args.matched.then_some(Policy::AcuityBestEffortMatched))
                     .map(|p| curve(p, *x, *y))
                     .collect(),
                 log_x: false,
@@ -378,7 +391,8 @@ impl ErrorSweep {
             );
         }
         out.push_str(
-            "\nknob: screen size's bias, acuity's scale factor s, or the budget's share of full detail's triangles;\n\
+            "\nknob: screen size's bias (acuity_best_effort_matched: the bias whose triangles it gets each frame), acuity's scale factor s,\n\
+             or the budget's share of full detail's triangles;\n\
              tris/frm: triangles a frame; LOD: mean LOD drawn (0 = finest); sw/s, rev/s: LOD switches a second, and back within 0.25 s;\n\
              FLIP: mean error against full detail (0 = identical); vs screen: triangles over screen size's at the same FLIP (below 1: fewer).\n",
         );
@@ -394,13 +408,13 @@ impl ErrorSweep {
     /// The rows as `error.csv` holds them, with its header.
     pub fn csv(&self) -> String {
         let mut csv = String::from(
-            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999,selection_visibility_deg,screen_size_jod_local_p999\n",
+            "policy,knob,mean_ms,p95_ms,triangles,mean_lod,lod_switches_per_s,flip_mean,flip_p95,triangles_vs_screen_size,jod,triangles_vs_screen_size_jod,lod_reversals_per_s,jod_local_p999,selection_visibility_deg,screen_size_jod_local_p999,triangles_max\n",
         );
         for r in &self.rows {
             let s = &r.summary;
             let _ = writeln!(
                 csv,
-                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{},{},{}",
+                "{},{},{:.4},{:.4},{:.1},{:.4},{:.3},{:.6},{:.6},{},{},{},{:.3},{},{},{},{:.0}",
                 s.policy.name(),
                 s.knob,
                 s.mean_ms,
@@ -417,6 +431,7 @@ impl ErrorSweep {
                 text(s.jod_local_p999, &|r| format!("{r:.4}"), ""),
                 text(s.visibility_deg, &|r| format!("{r:.4}"), ""),
                 text(r.screen_size_local_p999, &|r| format!("{r:.4}"), ""),
+                s.triangles_max,
             );
         }
         csv

@@ -442,6 +442,11 @@ pub enum Policy {
     /// As [`Policy::AcuityBestEffort`], with one `s` lowered for every
     /// object until the budget fits.
     AcuityBudgetUniform,
+    /// As [`Policy::AcuityBestEffort`], its budget in each frame the
+    /// triangles the screen-size table (the knob: its bias) draws in that
+    /// frame: the two rankings compared at equal triangles frame by frame,
+    /// not only on average.
+    AcuityBestEffortMatched,
     /// As [`Policy::AcuityPredictive`], with one `s` lowered for every
     /// object until the predicted frame fits (the rule before best effort).
     AcuityPredictiveUniform,
@@ -514,10 +519,11 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 13] = [
+    pub const EXTRA: [Policy; 14] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
+        Policy::AcuityBestEffortMatched,
         Policy::AcuityPredictiveUniform,
         Policy::AcuityPredictiveUnweighted,
         Policy::ScreenSizeReactive,
@@ -580,7 +586,10 @@ impl Policy {
     /// Whether this policy's knob ([`crate::player::PolicyRun::knob`]) is
     /// the screen-size table's bias.
     pub fn knob_is_bias(self) -> bool {
-        matches!(self, Policy::ScreenSize | Policy::ScreenSizeReactive)
+        matches!(
+            self,
+            Policy::ScreenSize | Policy::ScreenSizeReactive | Policy::AcuityBestEffortMatched
+        )
     }
 
     /// Whether this policy selects under a share of full detail's
@@ -619,6 +628,7 @@ impl Policy {
             Policy::AcuityBestEffort => "acuity_best_effort",
             Policy::AcuityBestEffortUnweighted => "acuity_best_effort_unweighted",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
+            Policy::AcuityBestEffortMatched => "acuity_best_effort_matched",
             Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
             Policy::AcuityPredictiveUnweighted => "acuity_predictive_unweighted",
             Policy::ScreenSizeReactive => "screen_size_reactive",
