@@ -215,7 +215,13 @@ fn draw_line_plot<DB: DrawingBackend>(
                 .configure_mesh()
                 .x_desc(plot.x_label.as_str())
                 .y_desc(plot.y_label.as_str())
-                .x_label_formatter(&|v| tick_label(*v))
+                .x_label_formatter(&|v| {
+                    if plot.log_x {
+                        log_tick_label(*v)
+                    } else {
+                        tick_label(*v)
+                    }
+                })
                 .y_label_formatter(&|v| tick_label(*v))
                 .label_style(("sans-serif", 13))
                 .axis_desc_style(("sans-serif", 15))
@@ -275,6 +281,24 @@ pub(crate) fn tick_label(v: f64) -> String {
     }
 }
 
+/// A tick label on a logarithmic axis: [`tick_label`] at 1, 2 and 5
+/// times a power of ten, none between, so that the ticks of a decade's
+/// upper half (60, 70, 80, 90, 100) do not run into each other.
+fn log_tick_label(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|m| (mantissa - m).abs() < 1e-6 * m)
+    {
+        tick_label(v)
+    } else {
+        String::new()
+    }
+}
+
 /// Draws `text` in black on `img` with its top-left corner at `(x, y)`,
 /// `size_px` pixels high. Text outside the image is clipped.
 pub fn draw_label(
@@ -320,6 +344,13 @@ mod tests {
         assert_eq!(tick_label(100.0), "100");
         assert_eq!(tick_label(-0.0001), "-1e-4");
         assert_eq!(tick_label(-0.0), "0");
+        for (v, label) in [(10.0, "10"), (20.0, "20"), (50.0, "50"), (100.0, "100")] {
+            assert_eq!(log_tick_label(v), label);
+        }
+        for v in [30.0, 60.0, 90.0, 0.0, -10.0, f64::NAN] {
+            assert_eq!(log_tick_label(v), "", "{v}");
+        }
+        assert_eq!(log_tick_label(0.002), "0.002");
     }
 
     #[test]
