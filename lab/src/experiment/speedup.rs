@@ -206,17 +206,28 @@ pub fn speedup(args: &SpeedupArgs) -> anyhow::Result<SpeedupOutcome> {
             player.set_progress(&bar);
             let runs = player.play_all(&settings.policies, world.scene.run.screen_size_bias)?;
             let sums = summarize(&runs, world.scene.run.budget_s());
+            let of = |policy: Policy| {
+                sums.iter()
+                    .find(|s| s.policy == policy)
+                    .ok_or_else(|| anyhow::anyhow!("no run of {}", policy.name()))
+            };
+            let (full, all, ecc_vel, imperceptible) = (
+                of(Policy::Full)?,
+                of(Policy::AcuityAll)?,
+                of(Policy::AcuityEccVel)?,
+                of(Policy::AcuityAllPooled)?,
+            );
             let t = SpeedupTrial {
                 count,
                 seed,
-                full_ms: sums[0].mean_ms,
-                acuity_ms: sums[1].mean_ms,
-                full_triangles: sums[0].triangles,
-                acuity_triangles: sums[1].triangles,
-                lod_all: sums[1].mean_lod + 1.0,
-                lod_ecc_vel: sums[2].mean_lod + 1.0,
-                imperceptible_ms: sums[3].mean_ms,
-                imperceptible_triangles: sums[3].triangles,
+                full_ms: full.mean_ms,
+                acuity_ms: all.mean_ms,
+                full_triangles: full.triangles,
+                acuity_triangles: all.triangles,
+                lod_all: all.mean_lod + 1.0,
+                lod_ecc_vel: ecc_vel.mean_lod + 1.0,
+                imperceptible_ms: imperceptible.mean_ms,
+                imperceptible_triangles: imperceptible.triangles,
             };
             if !args.profiles.quiet {
                 bar.suspend(|| {
