@@ -516,3 +516,56 @@ fn a_floor_outside_its_domain_never_gives_a_scale_outside_it() {
         }
     }
 }
+
+/// The settings whose `select` spends `s` as a budget, with and without
+/// the visibility budget and the steady switch rules, and the default.
+fn scale_rules() -> [(&'static str, SelectorSettings); 4] {
+    let imperceptible = SelectorSettings::just_imperceptible();
+    [
+        ("default", SelectorSettings::default()),
+        ("budgeted scale", budgeted_scale()),
+        (
+            "visibility budget",
+            SelectorSettings {
+                switch_hysteresis: 0.0,
+                switch_min_dwell_s: 0.0,
+                switch_coarsen_delay_s: 0.0,
+                ..imperceptible
+            },
+        ),
+        ("just imperceptible", imperceptible),
+    ]
+}
+
+#[test]
+fn a_budget_never_draws_more_than_the_selection_without_it_and_one_that_does_not_bind_draws_the_same()
+ {
+    for (name, settings) in scale_rules() {
+        for scale in [1.0f32, 0.5, 0.1] {
+            for share in [f64::INFINITY, 0.8, 0.5] {
+                let (mut free, ids) = random_scene(settings, 3000, 8, DVec3::ZERO);
+                let (mut capped, _) = random_scene(settings, 3000, 8, DVec3::ZERO);
+                for i in 0..60 {
+                    let frame = FrameInput {
+                        scale,
+                        ..frame_at(DVec3::new(0.0, 0.0, -0.5 * f64::from(i)), 1.0 / 60.0)
+                    };
+                    free.select(&frame).unwrap();
+                    let budget = if share.is_finite() {
+                        (free.triangles() as f64 * share) as u64
+                    } else {
+                        u64::MAX
+                    };
+                    let out = capped.select_within_budget(&frame, budget).unwrap();
+                    let what = format!("{name}, s = {scale}, budget x{share}, frame {i}");
+                    assert!(out.triangles <= free.triangles(), "{what}: drew more");
+                    if share.is_infinite() {
+                        assert_eq!(lods(&capped, &ids), lods(&free, &ids), "{what}");
+                    } else {
+                        assert_eq!(out.within_budget, out.triangles <= budget, "{what}");
+                    }
+                }
+            }
+        }
+    }
+}

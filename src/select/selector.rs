@@ -37,6 +37,9 @@ enum Budget {
     Triangles(u64),
     /// As many triangles as [`ScaleRule::Uniform`] draws at this `s`.
     UniformAt(f32),
+    /// [`Budget::UniformAt`] this `s`, and at most this many triangles
+    /// ([`Selector::select_within_budget`] under [`ScaleRule::Budgeted`]).
+    UniformAtWithin(f32, u64),
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -434,6 +437,13 @@ impl Selector {
     ///   breakpoints' triangle savings are binned over `log s` (256 bins),
     ///   and the chosen `s` is checked against the exact count.
     ///
+    /// Under [`ScaleRule::Budgeted`] the LODs at `frame.scale` are those
+    /// [`select`](Self::select) draws there (`s` spent as a budget, with
+    /// the visibility budget), so a budget caps that selection: a budget
+    /// never draws more than `select` at the same `s` and one that does
+    /// not bind draws the same. Within the dwell time a given budget may
+    /// coarsen a held object that `s`'s own budget would keep.
+    ///
     /// Objects' biases and LOD ranges apply as in [`select`](Self::select).
     /// The outcome's `scale` is the `s` chosen (uniform) or the lowest `s`
     /// at which a step taken is invisible (best effort).
@@ -442,6 +452,18 @@ impl Selector {
         frame: &FrameInput,
         triangle_budget: u64,
     ) -> Result<BudgetOutcome> {
+        if self.settings.scale_rule == ScaleRule::Budgeted {
+            let scale = checked_scale(frame.scale)?;
+            let at_one = FrameInput {
+                scale: 1.0,
+                ..*frame
+            };
+            return self.select_budgeted(
+                &at_one,
+                Budget::UniformAtWithin(scale, triangle_budget),
+                false,
+            );
+        }
         self.select_budgeted(frame, Budget::Triangles(triangle_budget), false)
     }
 
@@ -461,18 +483,26 @@ impl Selector {
         // default), or a lower `s` whose triangles are the budget (every
         // step the uniform rule takes there).
         let min_scale = super::effective_min_scale(self.settings.min_scale).min(s_max);
-        let from_scale = matches!(budget, Budget::UniformAt(_));
-        // A budget from `s` is the scheduler's soft target: within the
-        // dwell time after a switch an object does not switch back however
-        // the budget moves (a given budget may force a coarsening).
-        let strict_dwell = from_scale;
-        let (s_min, triangle_budget) = match budget {
-            Budget::Triangles(t) => (min_scale, t),
+        let from_scale = !matches!(budget, Budget::Triangles(_));
+        // The budget the greedy meets, and the one the caller gave (none
+        // for a budget from `s` alone).
+        let (s_min, triangle_budget, given) = match budget {
+            Budget::Triangles(t) => (min_scale, t, t),
             Budget::UniformAt(scale) => (
                 min_scale.min(scale),
                 self.single_triangles() + self.triangles_at(scale),
+                u64::MAX,
+            ),
+            Budget::UniformAtWithin(scale, t) => (
+                min_scale.min(scale),
+                (self.single_triangles() + self.triangles_at(scale)).min(t),
+                t,
             ),
         };
+        // A budget from `s` is the scheduler's soft target: within the
+        // dwell time after a switch an object does not switch back however
+        // the budget moves. A given budget may force a coarsening.
+        let strict_dwell = from_scale && triangle_budget < given;
         let dwell = self.hysteresis().and_then(|h| h.dwell_only());
         if dwell.is_some() {
             self.advance_clock(frame.dt_s);
@@ -484,7 +514,58 @@ impl Selector {
         } else {
             0.0
         };
-        let (scale, mut triangles) = match self.settings.budget_rule {
+        let (mut scale, mut triangles) =
+            self.spend_budget([s_min, s_max], triangle_budget, allowance_deg, strict_dwell);
+        // The soft target's held objects left the frame over the given
+        // budget: the given budget may coarsen them too.
+        let strict_dwell = strict_dwell && triangles <= given;
+        if !strict_dwell && triangle_budget < given {
+            (scale, triangles) = self.spend_budget([s_min, s_max], given, allowance_deg, false);
+        }
+        if !self.adjusted.is_empty() {
+            self.apply_adjustments(false, false);
+        }
+        // Coarsenings before the dwell time or the coarsening delay, and
+        // switches waiting for a saccade, hold finer LODs only within the
+        // budget's room (a budget from `s` holds them whatever it needs,
+        // unless `s` fell, within the budget given with it).
+        if let Some(h) = dwell {
+            let room = if strict_dwell {
+                (given < u64::MAX).then(|| given.saturating_sub(triangles))
+            } else {
+                Some(given.saturating_sub(triangles))
+            };
+            let scale_fell = match budget {
+                Budget::UniformAt(scale) | Budget::UniformAtWithin(scale, _) => {
+                    self.scale_fell(scale)
+                }
+                Budget::Triangles(_) => false,
+            };
+            triangles += self.apply_hysteresis(h, room, scale_fell);
+        }
+        let target = if strict_dwell { triangle_budget } else { given };
+        triangles += self.finish_frame(frame, Some(target.saturating_sub(triangles)));
+        let met = match budget {
+            Budget::UniformAt(_) => triangle_budget,
+            _ => given,
+        };
+        Ok(BudgetOutcome {
+            scale,
+            triangles,
+            within_budget: triangles <= met,
+        })
+    }
+
+    /// One pass of [`SelectorSettings::budget_rule`] within
+    /// `triangle_budget`: the scale reached and the triangles drawn.
+    fn spend_budget(
+        &mut self,
+        [s_min, s_max]: [f32; 2],
+        triangle_budget: u64,
+        allowance_deg: f32,
+        strict_dwell: bool,
+    ) -> (f32, u64) {
+        match self.settings.budget_rule {
             BudgetRule::BestEffort => self.best_effort_within(
                 [s_min, s_max],
                 triangle_budget,
@@ -504,28 +585,7 @@ impl Selector {
                 self.apply_budget_scale(scale);
                 (scale, triangles)
             }
-        };
-        if !self.adjusted.is_empty() {
-            self.apply_adjustments(false, false);
         }
-        // Coarsenings before the dwell time or the coarsening delay, and
-        // switches waiting for a saccade, hold finer LODs only within the
-        // budget's room (a budget from `s` holds them whatever it needs,
-        // unless `s` fell).
-        if let Some(h) = dwell {
-            let room = triangle_budget.saturating_sub(triangles);
-            let scale_fell = match budget {
-                Budget::UniformAt(scale) => self.scale_fell(scale),
-                Budget::Triangles(_) => false,
-            };
-            triangles += self.apply_hysteresis(h, (!strict_dwell).then_some(room), scale_fell);
-        }
-        triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
-        Ok(BudgetOutcome {
-            scale,
-            triangles,
-            within_budget: triangles <= triangle_budget,
-        })
     }
 
     /// The largest `s` in `[s_min, s_max]` whose LODs fit
