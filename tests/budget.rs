@@ -569,3 +569,27 @@ fn a_budget_never_draws_more_than_the_selection_without_it_and_one_that_does_not
         }
     }
 }
+
+#[test]
+fn the_triangles_a_budget_draws_never_fall_as_it_rises() {
+    let frame = FrameInput {
+        scale: 0.5,
+        ..frame_at(DVec3::ZERO, 1.0 / 60.0)
+    };
+    for (name, settings) in scale_rules() {
+        let (mut free, _) = random_scene(settings, 2000, 9, DVec3::ZERO);
+        free.select(&frame).unwrap();
+        let mut last = 0;
+        for percent in (5..=110).step_by(5) {
+            let budget = free.triangles() * percent / 100;
+            let (mut sel, _) = random_scene(settings, 2000, 9, DVec3::ZERO);
+            let drawn = sel.select_within_budget(&frame, budget).unwrap().triangles;
+            assert!(
+                drawn >= last,
+                "{name}: {percent}% drew {drawn}, less did {last}"
+            );
+            last = drawn;
+        }
+        assert_eq!(last, free.triangles(), "{name}");
+    }
+}

@@ -439,10 +439,13 @@ impl Selector {
     ///
     /// Under [`ScaleRule::Budgeted`] the LODs at `frame.scale` are those
     /// [`select`](Self::select) draws there (`s` spent as a budget, with
-    /// the visibility budget), so a budget caps that selection: a budget
-    /// never draws more than `select` at the same `s` and one that does
-    /// not bind draws the same. Within the dwell time a given budget may
-    /// coarsen a held object that `s`'s own budget would keep.
+    /// the visibility budget), and a budget caps that selection: where it
+    /// fits, it is drawn; where it does not, best effort fills the given
+    /// budget from the LODs at `s = 1` (the visibility budget spends
+    /// nothing more then, and a held object may be coarsened). So a budget
+    /// never draws more than `select` at the same `s`, one that does not
+    /// bind draws the same, and the triangles drawn do not fall as the
+    /// budget rises.
     ///
     /// Objects' biases and LOD ranges apply as in [`select`](Self::select).
     /// The outcome's `scale` is the `s` chosen (uniform) or the lowest `s`
@@ -484,9 +487,9 @@ impl Selector {
         // step the uniform rule takes there).
         let min_scale = super::effective_min_scale(self.settings.min_scale).min(s_max);
         let from_scale = !matches!(budget, Budget::Triangles(_));
-        // The budget the greedy meets, and the one the caller gave (none
-        // for a budget from `s` alone).
-        let (s_min, triangle_budget, given) = match budget {
+        // The budget the greedy meets first, and the one the caller gave
+        // (none for a budget from `s` alone).
+        let (s_min, mut triangle_budget, given) = match budget {
             Budget::Triangles(t) => (min_scale, t, t),
             Budget::UniformAt(scale) => (
                 min_scale.min(scale),
@@ -495,14 +498,14 @@ impl Selector {
             ),
             Budget::UniformAtWithin(scale, t) => (
                 min_scale.min(scale),
-                (self.single_triangles() + self.triangles_at(scale)).min(t),
+                self.single_triangles() + self.triangles_at(scale),
                 t,
             ),
         };
         // A budget from `s` is the scheduler's soft target: within the
         // dwell time after a switch an object does not switch back however
         // the budget moves. A given budget may force a coarsening.
-        let strict_dwell = from_scale && triangle_budget < given;
+        let mut strict_dwell = from_scale;
         let dwell = self.hysteresis().and_then(|h| h.dwell_only());
         if dwell.is_some() {
             self.advance_clock(frame.dt_s);
@@ -516,11 +519,11 @@ impl Selector {
         };
         let (mut scale, mut triangles) =
             self.spend_budget([s_min, s_max], triangle_budget, allowance_deg, strict_dwell);
-        // The soft target's held objects left the frame over the given
-        // budget: the given budget may coarsen them too.
-        let strict_dwell = strict_dwell && triangles <= given;
-        if !strict_dwell && triangle_budget < given {
-            (scale, triangles) = self.spend_budget([s_min, s_max], given, allowance_deg, false);
+        // A given budget below what `s` draws: best effort fills the given
+        // one instead, held objects included.
+        if triangles > given && triangle_budget != given {
+            (triangle_budget, strict_dwell) = (given, false);
+            (scale, triangles) = self.spend_budget([s_min, s_max], given, 0.0, false);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
@@ -533,7 +536,7 @@ impl Selector {
             let room = if strict_dwell {
                 (given < u64::MAX).then(|| given.saturating_sub(triangles))
             } else {
-                Some(given.saturating_sub(triangles))
+                Some(triangle_budget.saturating_sub(triangles))
             };
             let scale_fell = match budget {
                 Budget::UniformAt(scale) | Budget::UniformAtWithin(scale, _) => {
@@ -543,8 +546,7 @@ impl Selector {
             };
             triangles += self.apply_hysteresis(h, room, scale_fell);
         }
-        let target = if strict_dwell { triangle_budget } else { given };
-        triangles += self.finish_frame(frame, Some(target.saturating_sub(triangles)));
+        triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
         let met = match budget {
             Budget::UniformAt(_) => triangle_budget,
             _ => given,
