@@ -59,6 +59,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityBestEffort
         | Policy::AcuityBestEffortUnweighted
         | Policy::AcuityBestEffortMatched
+        | Policy::AcuityBestEffortMatchedPooled
         | Policy::AcuityBudgetUniform => c(true, true, true),
     }
 }
@@ -186,7 +187,7 @@ pub struct PolicyRunner {
     /// Full detail's triangles over the objects in view last frame (all
     /// objects before the first): what the share applies to.
     full_detail_triangles: u64,
-    /// [`Policy::AcuityBestEffortMatched`]'s culling selector: the
+    /// The matched policies' ([`Policy::is_matched`]) culling selector: the
     /// objects in view this frame, whose screen-size triangles make the
     /// budget.
     culling: Option<(Selector, Vec<ObjectId>)>,
@@ -215,7 +216,9 @@ impl PolicyRunner {
         // rules to their own settings.
         let base = if matches!(
             policy,
-            Policy::AcuityAllPooled | Policy::AcuityReactivePooled
+            Policy::AcuityAllPooled
+                | Policy::AcuityReactivePooled
+                | Policy::AcuityBestEffortMatchedPooled
         ) {
             SelectorSettings::just_imperceptible()
         } else {
@@ -282,7 +285,7 @@ impl PolicyRunner {
         // The matched budget counts the objects in view this frame: a
         // second selector, with the same frustum test, culls before the
         // budgeted selection runs.
-        let culling = if policy == Policy::AcuityBestEffortMatched {
+        let culling = if policy.is_matched() {
             Some(selector_over(world, settings)?)
         } else {
             None

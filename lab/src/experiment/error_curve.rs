@@ -13,6 +13,12 @@ use crate::scene::Policy;
 
 use super::CommonArgs;
 
+/// The policies `--matched` adds, each at every screen-size bias.
+const MATCHED: [Policy; 2] = [
+    Policy::AcuityBestEffortMatched,
+    Policy::AcuityBestEffortMatchedPooled,
+];
+
 /// Arguments of `acuity experiment error`.
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "clap", derive(clap::Args))]
@@ -43,7 +49,8 @@ pub struct ErrorArgs {
     /// Also run `acuity_best_effort_matched` at each screen-size bias:
     /// best effort under, in each frame, the triangles screen size draws
     /// in that frame, so the two rankings meet at equal triangles frame by
-    /// frame.
+    /// frame; and `acuity_best_effort_matched_pooled`, the same budget over
+    /// the runtime's just-imperceptible settings.
     #[cfg_attr(feature = "clap", arg(long))]
     pub matched: bool,
     /// Frames per configuration, spread over the scene's path.
@@ -154,8 +161,9 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         configs.extend(args.budgets.iter().map(|&b| (p, b)));
     }
     if args.matched {
-        let matched = Policy::AcuityBestEffortMatched;
-        configs.extend(args.biases.iter().map(|&b| (matched, b)));
+        for matched in MATCHED {
+            configs.extend(args.biases.iter().map(|&b| (matched, b)));
+        }
     }
     let mut player = Player::new(&world, settings.clone())?;
     let bar = crate::progress::bar(
@@ -186,7 +194,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         Series {
             name: match p {
                 Policy::ScreenSize => "screen size (bias)".into(),
-                Policy::AcuityBestEffortMatched => format!("{} (bias)", p.name()),
+                _ if p.is_matched() => format!("{} (bias)", p.name()),
                 _ if p.is_budgeted() => format!("{} (budget)", p.name()),
                 _ => format!("{} (s)", p.name()),
             },
@@ -238,7 +246,7 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
                             .into_iter()
                             .filter(|_| !args.budgets.is_empty()),
                     )
-                    .chain(args.matched.then_some(Policy::AcuityBestEffortMatched))
+                    .chain(MATCHED.into_iter().filter(|_| args.matched))
                     .map(|p| curve(p, *x, *y))
                     .collect(),
                 log_x: false,

@@ -447,6 +447,11 @@ pub enum Policy {
     /// frame: the two rankings compared at equal triangles frame by frame,
     /// not only on average.
     AcuityBestEffortMatched,
+    /// As [`Policy::AcuityBestEffortMatched`] with the runtime's
+    /// just-imperceptible settings
+    /// ([`acuity::SelectorSettings::just_imperceptible`]): the budget caps
+    /// what [`Policy::AcuityAllPooled`] draws at `s = 1`.
+    AcuityBestEffortMatchedPooled,
     /// As [`Policy::AcuityPredictive`], with one `s` lowered for every
     /// object until the predicted frame fits (the rule before best effort).
     AcuityPredictiveUniform,
@@ -519,11 +524,12 @@ impl Policy {
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 14] = [
+    pub const EXTRA: [Policy; 15] = [
         Policy::AcuityBestEffort,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
         Policy::AcuityBestEffortMatched,
+        Policy::AcuityBestEffortMatchedPooled,
         Policy::AcuityPredictiveUniform,
         Policy::AcuityPredictiveUnweighted,
         Policy::ScreenSizeReactive,
@@ -586,9 +592,15 @@ impl Policy {
     /// Whether this policy's knob ([`crate::player::PolicyRun::knob`]) is
     /// the screen-size table's bias.
     pub fn knob_is_bias(self) -> bool {
+        matches!(self, Policy::ScreenSize | Policy::ScreenSizeReactive) || self.is_matched()
+    }
+
+    /// Whether this policy's budget in each frame is the triangles the
+    /// screen-size table draws in that frame.
+    pub fn is_matched(self) -> bool {
         matches!(
             self,
-            Policy::ScreenSize | Policy::ScreenSizeReactive | Policy::AcuityBestEffortMatched
+            Policy::AcuityBestEffortMatched | Policy::AcuityBestEffortMatchedPooled
         )
     }
 
@@ -629,6 +641,7 @@ impl Policy {
             Policy::AcuityBestEffortUnweighted => "acuity_best_effort_unweighted",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
             Policy::AcuityBestEffortMatched => "acuity_best_effort_matched",
+            Policy::AcuityBestEffortMatchedPooled => "acuity_best_effort_matched_pooled",
             Policy::AcuityPredictiveUniform => "acuity_predictive_uniform",
             Policy::AcuityPredictiveUnweighted => "acuity_predictive_unweighted",
             Policy::ScreenSizeReactive => "screen_size_reactive",
