@@ -179,6 +179,33 @@ fn counted_from(allowance_deg: f32) -> f32 {
     }
 }
 
+/// What best effort may add in visibility once the triangles fit, and
+/// where it counts each step's visibility from.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Allowance {
+    /// The summed visibility the steps may add, deg (none when not `> 0`).
+    pub deg: f32,
+    /// `v0` of [`margin`].
+    pub counted_from: f32,
+}
+
+impl Allowance {
+    /// A visibility budget of `deg`, counted from
+    /// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM) when
+    /// it is on, from the edge of visibility when not.
+    pub(super) fn of(deg: f32) -> Self {
+        Self {
+            deg,
+            counted_from: counted_from(deg),
+        }
+    }
+
+    /// Nothing to add, the steps priced as under `self`.
+    pub(super) fn spent(self) -> Self {
+        Self { deg: 0.0, ..self }
+    }
+}
+
 /// The bin of `cost` within one tier, in `[0, COST_BINS)`.
 fn bin_of(cost: f32) -> usize {
     if cost.is_nan() {
@@ -205,7 +232,7 @@ impl Selector {
         &mut self,
         [s_min, s_max]: [f32; 2],
         triangle_budget: u64,
-        allowance_deg: f32,
+        allowance: Allowance,
         weighted: bool,
         strict_dwell: bool,
     ) -> (f32, u64) {
@@ -226,9 +253,12 @@ impl Selector {
         let h = self.settings.budget_hysteresis;
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
-        // With an allowance, the greedy starts from the LODs invisible
-        // from `counted_from` on.
-        let counted_from = counted_from(allowance_deg);
+        // With a visibility budget, the greedy starts from the LODs
+        // invisible from `counted_from` on.
+        let Allowance {
+            deg: allowance_deg,
+            counted_from,
+        } = allowance;
         // Pass 1: the LODs at `s_max / counted_from`, and every later
         // step's saving and added visibility binned by its cost; the steps
         // kept per object for passes 2 and 3.

@@ -15,7 +15,7 @@ use crate::rows;
 use crate::viewpoints::ViewpointLookup;
 
 use super::adjust::Adjust;
-use super::best_effort::ChainStep;
+use super::best_effort::{Allowance, ChainStep};
 use super::dispatch::{dispatch, widest};
 use super::frame::{checked_scale, frame_consts, motion_floor_cpd, outside_frustum};
 use super::hysteresis::SwitchRecord;
@@ -512,18 +512,19 @@ impl Selector {
         }
         // The summed visibility a budget from `s` may add once its
         // triangles fit (`visibility_budget`).
-        let allowance_deg = if from_scale {
+        let allowance = Allowance::of(if from_scale {
             self.visibility_allowance_deg()
         } else {
             0.0
-        };
+        });
         let (mut scale, mut triangles) =
-            self.spend_budget([s_min, s_max], triangle_budget, allowance_deg, strict_dwell);
+            self.spend_budget([s_min, s_max], triangle_budget, allowance, strict_dwell);
         // A given budget below what `s` draws: best effort fills the given
         // one instead, held objects included.
         if triangles > given && triangle_budget != given {
             (triangle_budget, strict_dwell) = (given, false);
-            (scale, triangles) = self.spend_budget([s_min, s_max], given, 0.0, false);
+            (scale, triangles) =
+                self.spend_budget([s_min, s_max], given, allowance.spent(), false);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
@@ -564,21 +565,21 @@ impl Selector {
         &mut self,
         [s_min, s_max]: [f32; 2],
         triangle_budget: u64,
-        allowance_deg: f32,
+        allowance: Allowance,
         strict_dwell: bool,
     ) -> (f32, u64) {
         match self.settings.budget_rule {
             BudgetRule::BestEffort => self.best_effort_within(
                 [s_min, s_max],
                 triangle_budget,
-                allowance_deg,
+                allowance,
                 true,
                 strict_dwell,
             ),
             BudgetRule::BestEffortUnweighted => self.best_effort_within(
                 [s_min, s_max],
                 triangle_budget,
-                allowance_deg,
+                allowance,
                 false,
                 strict_dwell,
             ),
