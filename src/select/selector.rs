@@ -523,8 +523,7 @@ impl Selector {
         // one instead, held objects included.
         if triangles > given && triangle_budget != given {
             (triangle_budget, strict_dwell) = (given, false);
-            (scale, triangles) =
-                self.spend_budget([s_min, s_max], given, allowance.spent(), false);
+            (scale, triangles) = self.spend_budget([s_min, s_max], given, allowance.spent(), false);
         }
         if !self.adjusted.is_empty() {
             self.apply_adjustments(false, false);
