@@ -57,6 +57,7 @@ pub fn components(policy: Policy) -> Option<Components> {
         | Policy::AcuityPredictiveAnnounced
         | Policy::AcuityPredictiveNoHeadroom
         | Policy::AcuityBestEffort
+        | Policy::AcuityBestEffortPooled
         | Policy::AcuityBestEffortUnweighted
         | Policy::AcuityBestEffortMatched
         | Policy::AcuityBestEffortMatchedPooled
@@ -218,6 +219,7 @@ impl PolicyRunner {
             policy,
             Policy::AcuityAllPooled
                 | Policy::AcuityReactivePooled
+                | Policy::AcuityBestEffortPooled
                 | Policy::AcuityBestEffortMatchedPooled
         ) {
             SelectorSettings::just_imperceptible()

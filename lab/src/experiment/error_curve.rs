@@ -41,7 +41,8 @@ pub struct ErrorArgs {
     /// Triangle budgets as shares of full detail's triangles in view,
     /// comma-separated, in (0, 1]: each runs `acuity_best_effort` (the
     /// least visible detail per triangle first, weighed by object size),
-    /// `acuity_best_effort_unweighted` (without the size) and
+    /// `acuity_best_effort_pooled` (capping the just-imperceptible
+    /// selection), `acuity_best_effort_unweighted` (without the size) and
     /// `acuity_budget_uniform` (one `s` lowered for all) under that budget
     /// (default: none).
     #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]

@@ -435,6 +435,10 @@ pub enum Policy {
     /// detail's triangles, the experiment's knob), spent best effort:
     /// the least visible detail per triangle first.
     AcuityBestEffort,
+    /// As [`Policy::AcuityBestEffort`] with the runtime's just-imperceptible
+    /// settings ([`acuity::SelectorSettings::just_imperceptible`]): the
+    /// budget caps what [`Policy::AcuityAllPooled`] draws at `s = 1`.
+    AcuityBestEffortPooled,
     /// As [`Policy::AcuityBestEffort`], each step's visibility not weighed
     /// by the object's size ([`acuity::BudgetRule::BestEffortUnweighted`],
     /// the rule before; kept to measure against).
@@ -517,15 +521,17 @@ impl Policy {
     /// The policies under a fixed share of full detail's triangles, not in
     /// [`Policy::ALL`] (scenes and runs name them explicitly; `experiment
     /// error --budgets` sweeps them).
-    pub const BUDGETED: [Policy; 3] = [
+    pub const BUDGETED: [Policy; 4] = [
         Policy::AcuityBestEffort,
+        Policy::AcuityBestEffortPooled,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
     ];
 
     /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 15] = [
+    pub const EXTRA: [Policy; 16] = [
         Policy::AcuityBestEffort,
+        Policy::AcuityBestEffortPooled,
         Policy::AcuityBestEffortUnweighted,
         Policy::AcuityBudgetUniform,
         Policy::AcuityBestEffortMatched,
@@ -638,6 +644,7 @@ impl Policy {
             Policy::AcuityReactive => "acuity_reactive",
             Policy::AcuityPredictive => "acuity_predictive",
             Policy::AcuityBestEffort => "acuity_best_effort",
+            Policy::AcuityBestEffortPooled => "acuity_best_effort_pooled",
             Policy::AcuityBestEffortUnweighted => "acuity_best_effort_unweighted",
             Policy::AcuityBudgetUniform => "acuity_budget_uniform",
             Policy::AcuityBestEffortMatched => "acuity_best_effort_matched",
