@@ -213,8 +213,9 @@ impl PolicyRunner {
         let scheduled = policy.is_scheduled() && !policy.is_untuned();
         // `acuity_all_pooled` is the runtime's `s = 1` just imperceptible
         // as shipped (`acuity_reactive_pooled` under the reactive
-        // scheduler); the other tuned schedulers add its steady switch
-        // rules to their own settings.
+        // scheduler, the `_pooled` budget policies under a triangle
+        // budget); the other tuned schedulers add its steady switch rules
+        // to their own settings.
         let base = if matches!(
             policy,
             Policy::AcuityAllPooled
