@@ -35,11 +35,10 @@ use super::{
 enum Budget {
     /// A number of triangles.
     Triangles(u64),
-    /// As many triangles as [`ScaleRule::Uniform`] draws at this `s`.
-    UniformAt(f32),
-    /// [`Budget::UniformAt`] this `s`, and at most this many triangles
-    /// ([`Selector::select_within_budget`] under [`ScaleRule::Budgeted`]).
-    UniformAtWithin(f32, u64),
+    /// As many triangles as [`ScaleRule::Uniform`] draws at this `s`, and
+    /// at most the second (`u64::MAX`: no more; a smaller one from
+    /// [`Selector::select_within_budget`] under [`ScaleRule::Budgeted`]).
+    UniformAt(f32, u64),
 }
 
 /// Selects LODs for a set of objects, frame after frame.
@@ -395,7 +394,7 @@ impl Selector {
                     scale: 1.0,
                     ..*frame
                 };
-                self.select_budgeted(&at_one, Budget::UniformAt(scale), diagnostics)?;
+                self.select_budgeted(&at_one, Budget::UniformAt(scale, u64::MAX), diagnostics)?;
                 if diagnostics {
                     for d in &mut self.diagnostics {
                         d.threshold_cpd *= scale;
@@ -461,11 +460,7 @@ impl Selector {
                 scale: 1.0,
                 ..*frame
             };
-            return self.select_budgeted(
-                &at_one,
-                Budget::UniformAtWithin(scale, triangle_budget),
-                false,
-            );
+            return self.select_budgeted(&at_one, Budget::UniformAt(scale, triangle_budget), false);
         }
         self.select_budgeted(frame, Budget::Triangles(triangle_budget), false)
     }
@@ -491,21 +486,16 @@ impl Selector {
         // (none for a budget from `s` alone).
         let (s_min, mut triangle_budget, given) = match budget {
             Budget::Triangles(t) => (min_scale, t, t),
-            Budget::UniformAt(scale) => (
+            Budget::UniformAt(scale, cap) => (
                 min_scale.min(scale),
                 self.single_triangles() + self.triangles_at(scale),
-                u64::MAX,
-            ),
-            Budget::UniformAtWithin(scale, t) => (
-                min_scale.min(scale),
-                self.single_triangles() + self.triangles_at(scale),
-                t,
+                cap,
             ),
         };
         // A budget from `s` is the scheduler's soft target: within the
         // dwell time after a switch an object does not switch back however
         // the budget moves. A given budget may force a coarsening.
-        let mut strict_dwell = from_scale;
+        let strict_dwell = from_scale;
         let dwell = self.hysteresis().and_then(|h| h.dwell_only());
         if dwell.is_some() {
             self.advance_clock(frame.dt_s);
@@ -522,7 +512,7 @@ impl Selector {
         // A given budget below what `s` draws: best effort fills the given
         // one instead, held objects included.
         if triangles > given && triangle_budget != given {
-            (triangle_budget, strict_dwell) = (given, false);
+            triangle_budget = given;
             (scale, triangles) = self.spend_budget([s_min, s_max], given, allowance.spent(), false);
         }
         if !self.adjusted.is_empty() {
@@ -530,26 +520,21 @@ impl Selector {
         }
         // Coarsenings before the dwell time or the coarsening delay, and
         // switches waiting for a saccade, hold finer LODs only within the
-        // budget's room (a budget from `s` holds them whatever it needs,
-        // unless `s` fell, within the budget given with it).
+        // given budget's room (a budget from `s` alone holds them whatever
+        // it needs, unless `s` fell).
         if let Some(h) = dwell {
-            let room = if strict_dwell {
-                (given < u64::MAX).then(|| given.saturating_sub(triangles))
-            } else {
-                Some(triangle_budget.saturating_sub(triangles))
-            };
+            let room = given.saturating_sub(triangles);
             let scale_fell = match budget {
-                Budget::UniformAt(scale) | Budget::UniformAtWithin(scale, _) => {
-                    self.scale_fell(scale)
-                }
+                Budget::UniformAt(scale, _) => self.scale_fell(scale),
                 Budget::Triangles(_) => false,
             };
-            triangles += self.apply_hysteresis(h, room, scale_fell);
+            triangles += self.apply_hysteresis(h, Some(room), scale_fell);
         }
         triangles += self.finish_frame(frame, Some(triangle_budget.saturating_sub(triangles)));
-        let met = match budget {
-            Budget::UniformAt(_) => triangle_budget,
-            _ => given,
+        let met = if given == u64::MAX {
+            triangle_budget
+        } else {
+            given
         };
         Ok(BudgetOutcome {
             scale,
