@@ -49,7 +49,7 @@
 //!   nearly free and the budget went where FovVideoVDP saw it. Judged by
 //!   FovVideoVDP, `Mean` and `Longest` keep every kind measured at the
 //!   edge of visibility and `Mean` keeps equal or more quality at equal
-//!   triangles (`docs/perception.md`, "The size statistic"). The cost: a
+//!   triangles (`docs/perception/visibility-budget.md`, "The size statistic"). The cost: a
 //!   thin sliver that wraps round the object (a silhouette moved by a
 //!   pixel or two all round) spans the object's diameter in every
 //!   direction, so `Mean`, `Longest` and even `Shortest` report ~1 c/diam
