@@ -390,11 +390,7 @@ impl Selector {
         if self.settings.scale_rule == ScaleRule::Budgeted {
             let scale = checked_scale(frame.scale)?;
             if scale < 1.0 || self.visibility_allowance_deg() > 0.0 {
-                let at_one = FrameInput {
-                    scale: 1.0,
-                    ..*frame
-                };
-                self.select_budgeted(&at_one, Budget::UniformAt(scale, u64::MAX), diagnostics)?;
+                self.select_spending_scale(frame, scale, u64::MAX, diagnostics)?;
                 if diagnostics {
                     for d in &mut self.diagnostics {
                         d.threshold_cpd *= scale;
@@ -456,13 +452,26 @@ impl Selector {
     ) -> Result<BudgetOutcome> {
         if self.settings.scale_rule == ScaleRule::Budgeted {
             let scale = checked_scale(frame.scale)?;
-            let at_one = FrameInput {
-                scale: 1.0,
-                ..*frame
-            };
-            return self.select_budgeted(&at_one, Budget::UniformAt(scale, triangle_budget), false);
+            return self.select_spending_scale(frame, scale, triangle_budget, false);
         }
         self.select_budgeted(frame, Budget::Triangles(triangle_budget), false)
+    }
+
+    /// Under [`ScaleRule::Budgeted`]: `scale` (checked, in `(0, 1]`)
+    /// spent as a budget from the LODs at `s = 1` of `frame`, capped by
+    /// `cap` triangles (`u64::MAX`: none).
+    fn select_spending_scale(
+        &mut self,
+        frame: &FrameInput,
+        scale: f32,
+        cap: u64,
+        diagnostics: bool,
+    ) -> Result<BudgetOutcome> {
+        let at_one = FrameInput {
+            scale: 1.0,
+            ..*frame
+        };
+        self.select_budgeted(&at_one, Budget::UniformAt(scale, cap), diagnostics)
     }
 
     /// [`select_within_budget`](Self::select_within_budget) with the
