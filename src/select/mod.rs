@@ -47,7 +47,9 @@
 //! for, the selections are compared with the previous frame's 64 at a time
 //! to list the objects whose selection changed, and cross-fades advance.
 //!
-//! Code: `selector` (profiles, selection within a budget), `objects`
+//! Code: `selector` (profiles, the frame's selection), `budgeted`
+//! (selection within a triangle budget; its greedy in `best_effort`, its
+//! switch rules in `hysteresis`), `objects`
 //! (object handles, adding, removing, changing objects), `object_id` (the
 //! handle type, a leaf that `camera` names too), `adjust` (bias
 //! and clamps), `changes` (the change list and cross-fades), `store` and
@@ -67,6 +69,7 @@ use crate::display::Display;
 
 mod adjust;
 mod best_effort;
+mod budgeted;
 mod changes;
 mod dispatch;
 mod frame;
