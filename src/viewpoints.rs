@@ -1,7 +1,7 @@
 //! Finding the sampled viewpoint nearest to a view direction, in constant
 //! time and without unpredictable branches.
 //!
-//! The nearest viewpoint is defined by [`nearest_scan`]: the first one with
+//! The nearest viewpoint is defined by `nearest_scan`: the first one with
 //! the largest dot product, rounded one fixed way. Small sets (up to 48
 //! viewpoints with AVX-512, 32 with AVX2, 8 with SSE2) are searched that
 //! way in bulk, many directions at once in vector registers. Larger ones
@@ -76,7 +76,7 @@ struct Pair {
 
 impl Pair {
     /// The nearer viewpoint of the pair to `d` by [`dot`], `a` on a tie:
-    /// what [`nearest_scan`] gives when both are the candidates.
+    /// what `nearest_scan` gives when both are the candidates.
     #[inline(always)]
     fn nearer(&self, d: [f32; 3]) -> u16 {
         self.views[(dot(self.b, d) > dot(self.a, d)) as usize]
@@ -86,7 +86,7 @@ impl Pair {
 /// Directions [`ViewpointLookup::nearest_batch`] compares at once.
 const LANES: usize = 16;
 
-/// The nearest viewpoint so far of `LANES` directions, by [`nearest_scan`]'s
+/// The nearest viewpoint so far of `LANES` directions, by `nearest_scan`'s
 /// rule, lane by lane. Bit masks rather than `if`: that compiles to branches.
 #[derive(Clone, Copy)]
 struct Closest {
@@ -217,7 +217,7 @@ impl ViewpointLookup {
 
     /// The index of the viewpoint nearest to `dir` (any non-zero vector;
     /// zero or non-finite vectors give some valid index), through the
-    /// cube map: what [`nearest_scan`] gives.
+    /// cube map: what `nearest_scan` gives.
     #[cfg(test)]
     pub(crate) fn nearest(&self, dir: Vec3) -> usize {
         self.nearest_in_cell(self.cell_index(dir), dir.to_array())
@@ -234,7 +234,7 @@ impl ViewpointLookup {
         cell_index(dir, self.resolution)
     }
 
-    /// [`nearest`](Self::nearest) with `cell = cell_index(dir, resolution)`
+    /// `nearest` with `cell = cell_index(dir, resolution)`
     /// computed beforehand (in bulk: [`cell_index`] vectorises).
     #[inline(always)]
     pub(crate) fn nearest_in_cell(&self, cell: u32, dir: [f32; 3]) -> usize {
@@ -246,7 +246,7 @@ impl ViewpointLookup {
     }
 
     /// The nearest of the candidate list that cell entry `id` points to:
-    /// [`nearest_scan`] over it (ascending, so ties keep the lower index).
+    /// `nearest_scan` over it (ascending, so ties keep the lower index).
     #[inline(never)]
     fn nearest_in_list(&self, id: u32, dir: [f32; 3]) -> usize {
         let start = (id & !LIST) as usize;
@@ -262,7 +262,7 @@ impl ViewpointLookup {
         best.0
     }
 
-    /// [`nearest`](Self::nearest) for the directions `dirs` (given
+    /// `nearest` for the directions `dirs` (given
     /// component by component: `dirs[a][i]`; at most [`QUEUE_MAX`], any
     /// more are left alone), into `views`. Small sets compare every
     /// viewpoint with 16 directions at a time; larger ones find each
