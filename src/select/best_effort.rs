@@ -483,7 +483,7 @@ impl Selector {
     /// One pass over the objects.
     pub fn selection_visibility_deg(&self) -> Option<f64> {
         let scale = self.recorded_scale?;
-        let counted_from = counted_from(self.settings.visibility_budget.deg_on(&self.display));
+        let counted_from = counted_from(self.visibility_allowance_deg());
         let mut sum = 0.0f64;
         for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
             let lod = match self.selections[slot].lod() {

@@ -173,20 +173,14 @@ impl Selector {
         strict_dwell: bool,
     ) -> (f32, u64) {
         match self.settings.budget_rule {
-            BudgetRule::BestEffort => self.best_effort_within(
-                [s_min, s_max],
-                triangle_budget,
-                allowance,
-                true,
-                strict_dwell,
-            ),
-            BudgetRule::BestEffortUnweighted => self.best_effort_within(
-                [s_min, s_max],
-                triangle_budget,
-                allowance,
-                false,
-                strict_dwell,
-            ),
+            rule @ (BudgetRule::BestEffort | BudgetRule::BestEffortUnweighted) => self
+                .best_effort_within(
+                    [s_min, s_max],
+                    triangle_budget,
+                    allowance,
+                    rule == BudgetRule::BestEffort,
+                    strict_dwell,
+                ),
             BudgetRule::UniformScale => {
                 let (scale, triangles) = self.uniform_scale_within([s_min, s_max], triangle_budget);
                 self.apply_budget_scale(scale);
