@@ -56,7 +56,8 @@ pub use crate::select::{
     IMPERCEPTIBLE_VISIBILITY_DEG, IMPERCEPTIBLE_VISIBILITY_FIELD_DEG2, LOWEST_MIN_SCALE,
     ObjectDesc, ObjectId, ProfileId, SACCADE_THRESHOLD_DEG_PER_S, STEADY_SWITCH_COARSEN_DELAY_S,
     STEADY_SWITCH_HYSTERESIS, STEADY_SWITCH_MIN_DWELL_S, ScaleRule, Selection, Selector,
-    SelectorSettings, SimdLevel, VISIBILITY_COUNTED_FROM, ViewpointRule, VisibilityBudget,
+    SelectorSettings, SimdLevel, VISIBILITY_COUNTED_FROM, VISIBILITY_POOLING_EXPONENT,
+    ViewpointRule, VisibilityBudget,
 };
 pub use crate::stereo::{Eye, StereoRig};
 

@@ -8,7 +8,7 @@ mod common;
 use acuity::{
     BudgetRule, Display, FrameInput, IMPERCEPTIBLE_VISIBILITY_DEG, STEADY_SWITCH_COARSEN_DELAY_S,
     STEADY_SWITCH_HYSTERESIS, STEADY_SWITCH_MIN_DWELL_S, ScaleRule, Selector, SelectorSettings,
-    VisibilityBudget,
+    VISIBILITY_POOLING_EXPONENT, VisibilityBudget,
 };
 use common::{
     big_and_small_saver, display, four_lod_profile, frame_at, lods, on_axis, random_scene,
@@ -353,6 +353,38 @@ fn a_visibility_budget_spends_its_degrees_at_s_1_and_no_more() {
         sel.select(&frame).unwrap();
         assert_eq!(sel.triangles(), off.triangles(), "{budget_deg}");
     }
+}
+
+#[test]
+fn a_visibility_budget_pools_each_objects_margin_with_the_pooling_exponent() {
+    // One object that an ample budget takes to its coarse LOD: its
+    // visibility is `theta m^beta`, its margin `m = ln(b v / v0)` growing by
+    // `ln 2` with each doubling of its bias `b`. So `V^(1 / beta)` grows by
+    // equal steps, and `V` itself by growing ones (a plain sum would grow
+    // by equal steps): two objects a little beyond the edge count for less
+    // than one twice as far beyond it.
+    let visibility = |bias: f32| {
+        let mut sel = Selector::new(display(), visibility_budgeted(1e6));
+        let p = sel
+            .add_profile(&two_lod_profile([4000, 1000], 60.0))
+            .unwrap();
+        let id = on_axis(&mut sel, p, -10.0);
+        sel.set_bias(id, bias).unwrap();
+        sel.select(&frame_at(DVec3::ZERO, 0.016)).unwrap();
+        assert_eq!(sel.selection(id).lod(), Some(1), "bias {bias}");
+        sel.selection_visibility_deg().unwrap()
+    };
+    let beta = f64::from(VISIBILITY_POOLING_EXPONENT);
+    assert!(beta > 1.0);
+    let [a, b, c] = [2.0, 4.0, 8.0].map(visibility);
+    assert!(a > 0.0, "{a}");
+    let root = |v: f64| v.powf(1.0 / beta);
+    let (first, second) = (root(b) - root(a), root(c) - root(b));
+    assert!(
+        (first - second).abs() < 1e-3 * root(c),
+        "{a} {b} {c}: steps {first} {second}"
+    );
+    assert!(c - b > 1.05 * (b - a), "{a} {b} {c}");
 }
 
 #[test]

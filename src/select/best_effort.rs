@@ -37,11 +37,20 @@
 //! A visibility budget
 //! ([`SelectorSettings::visibility_budget`](super::SelectorSettings::visibility_budget),
 //! under a budget from `s`) lets the greedy go on once the triangles fit:
-//! each step's added visibility (`theta ln(v / v0)` at its LOD less the
-//! object's at the LOD before, deg) is binned beside its saving, and the
-//! steps left are taken in the same order while the visibility they add
-//! stays within the budget. Visible differences add up over an image, so
-//! this bounds the image's difference rather than each object's alone;
+//! each step's added visibility (`theta ln(v / v0)^beta` at its LOD less
+//! the object's at the LOD before, deg) is binned beside its saving, and
+//! the steps left are taken in the same order while the visibility they
+//! add stays within the budget. Visible differences add up over an image,
+//! so this bounds the image's difference rather than each object's alone.
+//! They add up as a Minkowski sum (Quick 1974; Watson 1979): an image's
+//! difference is `(sum d^beta)^(1/beta)` over its pixels' differences `d`,
+//! with `beta` = [`VISIBILITY_POOLING_EXPONENT`](super::VISIBILITY_POOLING_EXPONENT),
+//! FovVideoVDP's spatial pooling exponent (Mantiuk et al. 2021). An
+//! object's step changes the pixels along its outline and edges, whose
+//! number grows with `theta`, each by a difference that grows with the
+//! margin `ln(v / v0)`, so its share of the sum is `theta ln(v / v0)^beta`:
+//! many objects each a little beyond the edge count for less than a few
+//! far beyond it, which a plain sum (`beta = 1`) would count alike;
 //! for the same reason a step just inside the edge of visibility is not
 //! free: with a visibility budget, `ln v` is counted from
 //! `v0 =` [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM)
@@ -93,7 +102,8 @@ struct Step {
     cost: f32,
     /// The scale `s = 1 / v` at which the step becomes invisible.
     scale: f32,
-    /// `theta ln(v)`, deg: the object's visibility at the step's LOD.
+    /// `theta ln(v)` (under a visibility budget `theta ln(v / v0)^beta`),
+    /// deg: the object's visibility at the step's LOD.
     visibility_deg: f32,
     saved: u32,
     to_lod: u8,
@@ -120,8 +130,8 @@ struct Take {
     threshold: usize,
     triangle_budget: u64,
     allowance_deg: f32,
-    /// `v0` of [`margin`].
-    counted_from: f32,
+    /// How each step's visibility is counted.
+    counting: Counting,
 }
 
 /// How [`Selector::next_step`] prices a step.
@@ -129,8 +139,8 @@ struct Take {
 struct Pricing {
     /// Whether `ln v` is weighed by the object's angular size.
     weighted: bool,
-    /// `v0` of [`margin`].
-    counted_from: f32,
+    /// How the step's visibility is counted.
+    counting: Counting,
 }
 
 /// Bins of one tier of the cost histogram: bin 0 holds costs of 0 (steps
@@ -159,23 +169,50 @@ impl Step {
     }
 }
 
-/// `ln(max(1, v / v0))`, `v = k / q`: how far an object of threshold `k`
-/// at `s = 1` lies above the critical acuity `q` of the transitions it
-/// crossed (c/diam both), counted from `v0 = counted_from` (1: the edge of
-/// visibility; below it, from within the invisible zone); 0 at or below
-/// `v0`.
-fn margin(k_cdiam: f32, q_cdiam: f32, counted_from: f32) -> f32 {
-    (k_cdiam / (q_cdiam * counted_from)).max(1.0).ln()
+/// How a step's visibility is counted: from where, and how the
+/// objects' differences add up over the image.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Counting {
+    /// `v0`: where the margin starts (1: the edge of visibility; below it,
+    /// from within the invisible zone).
+    pub from: f32,
+    /// `beta`: the exponent of the margin, so that the objects' visibility
+    /// `theta m^beta` sums over the image as a Minkowski sum of their
+    /// differences (1: a plain sum).
+    pub exponent: f32,
 }
 
-/// `v0` of [`margin`] under a visibility budget of `allowance_deg`:
-/// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM), within the
-/// invisible zone, with one (`> 0`); the edge of visibility, 1, without.
-fn counted_from(allowance_deg: f32) -> f32 {
-    if allowance_deg > 0.0 {
-        super::VISIBILITY_COUNTED_FROM
-    } else {
-        1.0
+impl Counting {
+    /// Under a visibility budget of `allowance_deg` (`> 0`): from
+    /// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM), within
+    /// the invisible zone, pooled with
+    /// [`VISIBILITY_POOLING_EXPONENT`](super::VISIBILITY_POOLING_EXPONENT).
+    /// Without one: from the edge of visibility, summed plainly.
+    fn under(allowance_deg: f32) -> Self {
+        if allowance_deg > 0.0 {
+            Self {
+                from: super::VISIBILITY_COUNTED_FROM,
+                exponent: super::VISIBILITY_POOLING_EXPONENT,
+            }
+        } else {
+            Self {
+                from: 1.0,
+                exponent: 1.0,
+            }
+        }
+    }
+
+    /// `m^beta` with `m = ln(max(1, v / v0))`, `v = k / q`: how far an
+    /// object of threshold `k` at `s = 1` lies above the critical acuity
+    /// `q` of the transitions it crossed (c/diam both), counted from `v0`;
+    /// 0 at or below `v0`.
+    fn margin(self, k_cdiam: f32, q_cdiam: f32) -> f32 {
+        let m = (k_cdiam / (q_cdiam * self.from)).max(1.0).ln();
+        if self.exponent == 1.0 || m == 0.0 {
+            m
+        } else {
+            m.powf(self.exponent)
+        }
     }
 }
 
@@ -185,8 +222,8 @@ fn counted_from(allowance_deg: f32) -> f32 {
 pub(super) struct Allowance {
     /// The summed visibility the steps may add, deg (none when not `> 0`).
     pub deg: f32,
-    /// `v0` of [`margin`].
-    pub counted_from: f32,
+    /// How each step's visibility is counted.
+    pub counting: Counting,
 }
 
 impl Allowance {
@@ -196,7 +233,7 @@ impl Allowance {
     pub(super) fn of(deg: f32) -> Self {
         Self {
             deg,
-            counted_from: counted_from(deg),
+            counting: Counting::under(deg),
         }
     }
 
@@ -224,7 +261,7 @@ impl Selector {
     /// the triangles fit `triangle_budget` where the steps allowed reach
     /// it, cheapest step first (see the module docs), taking no step that
     /// needs `s` below `s_min` (in `(0, s_max]`); then, while the
-    /// visibility they add (`theta ln v`, summed) stays within
+    /// visibility they add (`theta ln(v / v0)^beta`, summed) stays within
     /// `allowance_deg`, the next cheapest steps too (an allowance not
     /// `> 0`, NaN included, is none). Returns the scale
     /// reached and the triangles drawn (LOD ranges counted).
@@ -254,12 +291,12 @@ impl Selector {
         let keep_factor = 1.0 - if h.is_nan() { 0.0 } else { h.clamp(0.0, 0.9) };
         let dwell_s = self.dwell_s();
         // With a visibility budget, the greedy starts from the LODs
-        // invisible from `counted_from` on.
+        // invisible from `v0` on.
         let Allowance {
             deg: allowance_deg,
-            counted_from,
+            counting,
         } = allowance;
-        // Pass 1: the LODs at `s_max / counted_from`, and every later
+        // Pass 1: the LODs at `s_max / v0`, and every later
         // step's saving and added visibility binned by its cost; the steps
         // kept per object for passes 2 and 3.
         let mut saved_by_bin = [0u64; BINS];
@@ -276,7 +313,7 @@ impl Selector {
                 continue;
             }
             let p = self.object_profiles[slot] as usize;
-            let mut lod = self.lod_at(&entry, p, s_max / counted_from);
+            let mut lod = self.lod_at(&entry, p, s_max / counting.from);
             // Within the dwell time after a coarsening, no switch back to
             // a finer LOD: a budget's coarsening undone a few frames later
             // is flicker, and keeping the coarser LOD only saves.
@@ -308,15 +345,12 @@ impl Selector {
             } else {
                 usize::MAX
             };
-            let pricing = Pricing {
-                weighted,
-                counted_from,
-            };
+            let pricing = Pricing { weighted, counting };
             let mut next = self.next_step(slot, &entry, adjust, lod, s_min, pricing);
             if next.is_none() {
                 continue;
             }
-            let mut shown_deg = self.visibility_at(&entry, p, lod, counted_from);
+            let mut shown_deg = self.visibility_at(&entry, p, lod, counting);
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 bin = bin.max(step.bin_given(kept, keep_factor, held));
                 saved_by_bin[bin] += u64::from(step.saved);
@@ -357,7 +391,7 @@ impl Selector {
                         u64::MAX
                     },
                     allowance_deg: 0.0,
-                    counted_from,
+                    counting,
                 }
             } else if !for_triangles && allowance_deg > 0.0 {
                 let mut shown = 0.0f32;
@@ -371,7 +405,7 @@ impl Selector {
                         .unwrap_or(BINS),
                     triangle_budget: u64::MAX,
                     allowance_deg,
-                    counted_from,
+                    counting,
                 }
             } else {
                 continue;
@@ -431,7 +465,7 @@ impl Selector {
                     continue;
                 }
                 let p = self.object_profiles[slot] as usize;
-                let mut shown_deg = self.visibility_at(&entry, p, lod, take.counted_from);
+                let mut shown_deg = self.visibility_at(&entry, p, lod, take.counting);
                 let mut left = chain.iter().filter(|step| usize::from(step.to_lod) > lod);
                 let mut not_taken = None;
                 for step in left.by_ref() {
@@ -467,11 +501,13 @@ impl Selector {
 
     /// The last frame's selection in this module's measure of visibility:
     /// the sum over the visible objects with more than one LOD of
-    /// `theta ln(max(1, v / v0))` for the LOD each draws (`theta` its
+    /// `theta ln(max(1, v / v0))^beta` for the LOD each draws (`theta` its
     /// angular size, deg; `v = k / q`, `k` its threshold at `s = 1` and `q`
-    /// the prefix minimum of the transitions up to that LOD; `v0`
-    /// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM) with a
-    /// visibility budget, else 1), in deg. 0 when every object draws a
+    /// the prefix minimum of the transitions up to that LOD; with a
+    /// visibility budget `v0` is
+    /// [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM) and
+    /// `beta` [`VISIBILITY_POOLING_EXPONENT`](super::VISIBILITY_POOLING_EXPONENT),
+    /// else both 1), in deg. 0 when every object draws a
     /// LOD invisible from `v0` on; larger
     /// the further, and on the larger objects, the LODs drawn lie beyond.
     /// An estimate of how much of the image differs from full detail, as
@@ -483,7 +519,7 @@ impl Selector {
     /// One pass over the objects.
     pub fn selection_visibility_deg(&self) -> Option<f64> {
         let scale = self.recorded_scale?;
-        let counted_from = counted_from(self.visibility_allowance_deg());
+        let counting = Counting::under(self.visibility_allowance_deg());
         let mut sum = 0.0f64;
         for (slot, entry) in self.budget.iter().enumerate().take(self.multi()) {
             let lod = match self.selections[slot].lod() {
@@ -496,20 +532,20 @@ impl Selector {
                 ..*entry
             };
             let p = self.object_profiles[slot] as usize;
-            sum += f64::from(self.visibility_at(&at_one, p, lod, counted_from));
+            sum += f64::from(self.visibility_at(&at_one, p, lod, counting));
         }
         Some(sum)
     }
 
-    /// `theta ln(max(1, v / v0))`, `v0 = counted_from`, of an object of
-    /// profile `p` at `lod` (its entry's threshold at `s = 1`), deg.
-    fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize, counted_from: f32) -> f32 {
+    /// `theta m^beta` ([`Counting::margin`]) of an object of profile `p`
+    /// at `lod` (its entry's threshold at `s = 1`), deg.
+    fn visibility_at(&self, entry: &BudgetEntry, p: usize, lod: usize, counting: Counting) -> f32 {
         if lod == 0 {
             return 0.0;
         }
         let n = self.profiles[p].lod_count;
         let q = self.rows[entry.row as usize + lod.min(n - 1) - 1];
-        let margin = margin(entry.k_cdiam, q, counted_from);
+        let margin = counting.margin(entry.k_cdiam, q);
         if margin.is_finite() {
             margin * entry.angular_size_deg
         } else {
@@ -560,7 +596,7 @@ impl Selector {
             let after = self.drawn_triangles(p, adjust, j + 1);
             if after < now {
                 let saved = now - after;
-                let margin = margin(entry.k_cdiam, q, pricing.counted_from);
+                let margin = pricing.counting.margin(entry.k_cdiam, q);
                 let visibility_deg = margin * entry.angular_size_deg;
                 let visibility = if pricing.weighted {
                     visibility_deg

@@ -459,7 +459,8 @@ pub enum ScaleRule {
 
 /// The visibility summed over the image that `s = 1` may spend
 /// ([`SelectorSettings::visibility_budget`]), in best effort's measure
-/// (`theta ln(v / v0)` per object, deg, `v0` [`VISIBILITY_COUNTED_FROM`]).
+/// (`theta ln(v / v0)^beta` per object, deg, `v0` [`VISIBILITY_COUNTED_FROM`],
+/// `beta` [`VISIBILITY_POOLING_EXPONENT`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum VisibilityBudget {
     /// None: `s = 1` draws the LODs each invisible on its own.
@@ -485,14 +486,25 @@ pub enum VisibilityBudget {
 /// tessellated spheres and tori): the largest budget measured (in steps
 /// of 2 deg) that keeps `s = 1` at or above the edge of visibility
 /// (FovVideoVDP, foveated, 9.75 JOD) on each, with visibility counted from
-/// [`VISIBILITY_COUNTED_FROM`] (at 28 deg the bunnies and the tori alone
-/// score 9.748). A scene spends the whole budget on the kinds it has, so
-/// a budget fitted to a mixed scene alone leaves a scene of its most
+/// [`VISIBILITY_COUNTED_FROM`] and pooled with
+/// [`VISIBILITY_POOLING_EXPONENT`] (at 38 deg the bunnies alone score
+/// 9.748). A scene spends the whole budget on the kinds it has, so a
+/// budget fitted to a mixed scene alone leaves a scene of its most
 /// cheaply priced kind perceptible.
-pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 26.0;
+pub const IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 36.0;
+
+/// `beta`: the exponent with which a visibility budget pools the objects'
+/// differences over the image, `theta ln(v / v0)^beta` per object (a
+/// Minkowski sum over the pixels that differ; see
+/// [`VisibilityBudget`]). FovVideoVDP 1.2's spatial pooling exponent
+/// (Mantiuk et al. 2021), the metric the budget is calibrated against:
+/// many differences each a little beyond the edge count for less than a
+/// few far beyond it, so a scene of many objects spends the budget in
+/// smaller steps on more of them.
+pub const VISIBILITY_POOLING_EXPONENT: f32 = crate::csf::POOLING_EXPONENT;
 
 /// `v0`: where a visibility budget starts counting a step's visibility,
-/// `theta ln(v / v0)` with `v = k / q` (the object's threshold at `s = 1`
+/// `theta ln(v / v0)^beta` with `v = k / q` (the object's threshold at `s = 1`
 /// over the critical acuity of the transitions the step crosses; `v = 1`
 /// is the edge at which the step is invisible on its own). Below 1, so
 /// that steps just inside the edge are not free: differences each
