@@ -50,9 +50,9 @@
 //! number grows with `theta`, each by a difference that grows with the
 //! margin `ln(v / v0)`, so its share of the sum is `theta ln(v / v0)^beta`:
 //! many objects each a little beyond the edge count for less than a few
-//! far beyond it, which a plain sum (`beta = 1`) would count alike;
-//! for the same reason a step just inside the edge of visibility is not
-//! free: with a visibility budget, `ln v` is counted from
+//! far beyond it, which a plain sum (`beta = 1`) would count alike.
+//! Because differences add up, a step just inside the edge of visibility
+//! is not free either: with a visibility budget, `ln v` is counted from
 //! `v0 =` [`VISIBILITY_COUNTED_FROM`](super::VISIBILITY_COUNTED_FROM)
 //! below the edge, and the greedy starts from the LODs invisible from
 //! there on, so that the triangles from `s` (at `s = 1`, the rule's
