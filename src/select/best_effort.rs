@@ -122,6 +122,24 @@ pub(super) struct ChainStep {
     visibility_deg: f32,
 }
 
+/// The steps pass 1 kept, as [`Selector::take_steps`] reads them.
+#[derive(Clone, Copy, Debug)]
+struct Chains<'a> {
+    /// Every object's steps, in slot order.
+    steps: &'a [ChainStep],
+    /// Per slot, where its steps start in `steps` (one more entry: the end).
+    start: &'a [u32],
+    /// Per slot, its visibility at the LOD its steps start from, deg.
+    start_deg: &'a [f32],
+}
+
+impl<'a> Chains<'a> {
+    /// The steps of the object in `slot`.
+    fn of(&self, slot: usize) -> &'a [ChainStep] {
+        &self.steps[self.start[slot] as usize..self.start[slot + 1] as usize]
+    }
+}
+
 /// What [`Selector::take_steps`] takes: every kept step in a bin below
 /// `threshold`, and in it those that bring the triangles to
 /// `triangle_budget` or whose added visibility fits `allowance_deg`.
@@ -130,8 +148,6 @@ struct Take {
     threshold: usize,
     triangle_budget: u64,
     allowance_deg: f32,
-    /// How each step's visibility is counted.
-    counting: Counting,
 }
 
 /// How [`Selector::next_step`] prices a step.
@@ -304,10 +320,13 @@ impl Selector {
         let mut triangles = self.single_triangles();
         let mut chains = std::mem::take(&mut self.chains);
         let mut chain_start = std::mem::take(&mut self.chain_start);
+        let mut chain_start_deg = std::mem::take(&mut self.chain_start_deg);
         chains.clear();
         chain_start.clear();
+        chain_start_deg.clear();
         for slot in 0..multi {
             chain_start.push(chains.len() as u32);
+            chain_start_deg.push(0.0);
             let entry = self.budget[slot];
             if entry.row == u32::MAX {
                 continue;
@@ -351,6 +370,7 @@ impl Selector {
                 continue;
             }
             let mut shown_deg = self.visibility_at(&entry, p, lod, counting);
+            chain_start_deg[slot] = shown_deg;
             while let Some(step) = next.filter(|step| usize::from(step.to_lod) <= limit) {
                 bin = bin.max(step.bin_given(kept, keep_factor, held));
                 saved_by_bin[bin] += u64::from(step.saved);
@@ -391,7 +411,6 @@ impl Selector {
                         u64::MAX
                     },
                     allowance_deg: 0.0,
-                    counting,
                 }
             } else if !for_triangles && allowance_deg > 0.0 {
                 let mut shown = 0.0f32;
@@ -405,7 +424,6 @@ impl Selector {
                         .unwrap_or(BINS),
                     triangle_budget: u64::MAX,
                     allowance_deg,
-                    counting,
                 }
             } else {
                 continue;
@@ -413,8 +431,11 @@ impl Selector {
             // The visibility of the steps left, for the allowance.
             let left = (for_triangles && allowance_deg > 0.0).then_some(&mut visibility_by_bin);
             self.take_steps(
-                &chains,
-                &chain_start,
+                Chains {
+                    steps: &chains,
+                    start: &chain_start,
+                    start_deg: &chain_start_deg,
+                },
                 take,
                 &mut triangles,
                 &mut reached,
@@ -423,6 +444,7 @@ impl Selector {
         }
         self.chains = chains;
         self.chain_start = chain_start;
+        self.chain_start_deg = chain_start_deg;
         self.adjusted_of = adjusted_of;
         (reached.max(s_min), triangles)
     }
@@ -436,11 +458,12 @@ impl Selector {
     /// (deg) of the steps left.
     /// Reads the chains pass 1 kept: a step not yet taken lies in the
     /// threshold's bin or above, so the running maximum it kept is its own
-    /// cost or a later step's, as from its LOD.
+    /// cost or a later step's, as from its LOD; and an object's visibility
+    /// at its selection is its chain's start's or that of the last step
+    /// taken (a selection is one or the other).
     fn take_steps(
         &mut self,
-        chains: &[ChainStep],
-        chain_start: &[u32],
+        chains: Chains,
         take: Take,
         triangles: &mut u64,
         reached: &mut f32,
@@ -452,21 +475,19 @@ impl Selector {
         let mut added_deg = 0.0f32;
         for below in [true, false] {
             for slot in 0..self.multi() {
-                let entry = self.budget[slot];
-                if entry.row == u32::MAX {
-                    continue;
-                }
-                let chain = &chains[chain_start[slot] as usize..chain_start[slot + 1] as usize];
+                // An object with no steps (culled, or at its coarsest LOD)
+                // has nothing to take.
+                let chain = chains.of(slot);
                 let lod = self.selections[slot].0 as usize;
-                if chain
-                    .last()
-                    .is_none_or(|step| usize::from(step.to_lod) <= lod)
-                {
+                let first_left = chain.partition_point(|step| usize::from(step.to_lod) <= lod);
+                if first_left == chain.len() {
                     continue;
                 }
-                let p = self.object_profiles[slot] as usize;
-                let mut shown_deg = self.visibility_at(&entry, p, lod, take.counting);
-                let mut left = chain.iter().filter(|step| usize::from(step.to_lod) > lod);
+                let mut shown_deg = match first_left {
+                    0 => chains.start_deg[slot],
+                    i => chain[i - 1].visibility_deg,
+                };
+                let mut left = chain[first_left..].iter();
                 let mut not_taken = None;
                 for step in left.by_ref() {
                     let bin = usize::from(step.bin);

@@ -126,10 +126,12 @@ pub struct Selector {
     /// frames.
     pub(super) adjusted_of: Vec<u32>,
     /// The best-effort budget's steps of every object, in slot order
-    /// (`chains[chain_start[slot]..chain_start[slot + 1]]`), kept between
-    /// frames for their capacity.
+    /// (`chains[chain_start[slot]..chain_start[slot + 1]]`), and each
+    /// object's visibility at the LOD its chain starts from (deg), kept
+    /// between frames for their capacity.
     pub(super) chains: Vec<ChainStep>,
     pub(super) chain_start: Vec<u32>,
+    pub(super) chain_start_deg: Vec<f32>,
     /// The switch hysteresis' clock (the sum of the frames' `dt_s`), s,
     /// and per slot what its rules by time remember (the last switch, for
     /// [`SelectorSettings::switch_min_dwell_s`], and since when a coarser
@@ -183,6 +185,7 @@ impl Selector {
             adjusted_of: Vec::new(),
             chains: Vec::new(),
             chain_start: Vec::new(),
+            chain_start_deg: Vec::new(),
             clock_s: 0.0,
             switch_records: Vec::new(),
             hysteresis_scale: 1.0,
