@@ -27,12 +27,8 @@ fn after_a_lasting_load_spike_the_reactive_controller_is_back_within_a_few_frame
     let period = 1.0 / 90.0;
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
         let load = 1.5;
-        for _ in 0..300 {
-            let t = plant.frame_time(sched.scale(), load);
-            sched.update(t);
-        }
+        let mut sched = plant.settled_reactive(load);
         let before = plant.triangles(sched.scale());
         for k in 0..20 {
             let jolt = seed % 4 == 3 && k == 10;

@@ -25,13 +25,9 @@ const SPIKE_RECOVERY_FRAMES: usize = 10;
 fn recovers_from_a_single_10x_spike_within_10_frames_and_one_reversal() {
     for seed in 0..20 {
         let plant = Plant::new(seed);
-        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
         // Settle under a load that needs some reduction.
         let load = 1.5;
-        for _ in 0..300 {
-            let t = plant.frame_time(sched.scale(), load);
-            sched.update(t);
-        }
+        let mut sched = plant.settled_reactive(load);
         let settled = sched.scale();
         let spike = 10.0 * plant.frame_time(settled, load);
         let mut trace = vec![settled, sched.update(spike)];

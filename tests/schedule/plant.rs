@@ -78,6 +78,16 @@ impl Plant {
         triangles
     }
 
+    /// A reactive scheduler at 90 Hz settled on the plant over 300 frames
+    /// under `load` (without noise).
+    pub fn settled_reactive(&self, load: f32) -> ReactiveScheduler {
+        let mut sched = ReactiveScheduler::new(ReactiveSettings::for_rate_hz(90.0).unwrap());
+        for _ in 0..300 {
+            sched.update(self.frame_time(sched.scale(), load));
+        }
+        sched
+    }
+
     /// Triangles at the coarsest LOD of every object.
     pub fn coarsest_triangles(&self) -> u64 {
         (TRIANGLES[3] * self.breakpoints.len() as f32) as u64
