@@ -321,10 +321,7 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
         let plant = Plant::new(seed);
         let mut rng = Rng::new(seed ^ 0xa11);
         let fixed_s = 1e-3;
-        let mut sched = PredictiveScheduler::new(
-            settings,
-            CostModel::new(fixed_s, plant.seconds_per_triangle),
-        );
+        let mut sched = predictive_at_90_hz(&plant, fixed_s);
         let (mut first_over, mut over) = (0, 0);
         // The highest ratio of the learnt per-triangle cost at a spike's
         // end to the one just before it.
