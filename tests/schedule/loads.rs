@@ -317,11 +317,11 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
     // spikes of +40% of the period (reachable: the budget can make room)
     // of 20 frames each, told in advance or not.
     let run = |announce: bool, seed: u64| {
-        let settings = ReactiveSettings::for_rate_hz(90.0).unwrap();
         let plant = Plant::new(seed);
         let mut rng = Rng::new(seed ^ 0xa11);
         let fixed_s = 1e-3;
         let mut sched = predictive_at_90_hz(&plant, fixed_s);
+        let period_s = sched.settings().target_frame_s;
         let (mut first_over, mut over) = (0, 0);
         // The highest ratio of the learnt per-triangle cost at a spike's
         // end to the one just before it.
@@ -332,11 +332,7 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
         for frame in 0..900 {
             let phase = frame % 150;
             let spike = frame >= 300 && (100..120).contains(&phase);
-            let extra_s = if spike {
-                0.4 * settings.target_frame_s
-            } else {
-                0.0
-            };
+            let extra_s = if spike { 0.4 * period_s } else { 0.0 };
             if announce && spike {
                 sched.announce_load(extra_s);
             }
@@ -351,7 +347,7 @@ fn an_announced_load_is_budgeted_for_before_its_first_frame() {
             let (_, triangles) = plant.fit_budget(budget);
             let t = (fixed_s + triangles * plant.seconds_per_triangle + extra_s)
                 * noise(&mut rng, 0.05);
-            if spike && t > settings.target_frame_s {
+            if spike && t > period_s {
                 over += 1;
                 first_over += usize::from(phase == 100);
             }
