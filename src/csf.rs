@@ -227,7 +227,7 @@ pub struct Observer {
 /// so that `s = 1` lands at the edge of visibility as FovVideoVDP judges
 /// whole scenes (foveated JOD 9.75, a quarter JOD below the reference);
 /// how it was measured is in the repository's `docs/perception.md`.
-pub const DEFAULT_THRESHOLD_JND: f32 = 1.4;
+pub const DEFAULT_THRESHOLD_JND: f32 = 3.5;
 
 impl Default for Observer {
     fn default() -> Self {

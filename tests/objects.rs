@@ -353,7 +353,12 @@ fn the_budget_counts_biases_and_ranges() {
     }
     sel.select(&frame(1)).unwrap();
     let full = sel.triangles();
-    for budget in [full / 2, full / 4, full] {
+    // The fewest triangles the biases and ranges allow (a budget of 0 is
+    // missed at the lowest `s`); every budget between it and `s = 1`'s fits.
+    let floor = sel.select_within_budget(&frame(1), 0).unwrap();
+    assert!(!floor.within_budget && floor.triangles < full, "{floor:?}");
+    let span = full - floor.triangles;
+    for budget in [floor.triangles + span / 2, floor.triangles + span / 4, full] {
         let out = sel.select_within_budget(&frame(1), budget).unwrap();
         assert_eq!(out.triangles, sel.triangles(), "budget {budget}");
         assert!(out.within_budget, "{out:?} for {budget}");

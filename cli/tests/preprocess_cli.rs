@@ -180,6 +180,7 @@ fn scene_profile_settings_apply_and_flags_override_them() {
     assert_eq!(setting("viewpoint_level"), "0");
     assert_eq!(setting("statistic"), "Thickness");
     assert_eq!(setting("threshold_delta_e"), "4.5");
+    assert_eq!(setting("min_change_delta_e"), "1");
     assert_eq!(
         Profile::load(out.join("rock.acp"))
             .unwrap()
@@ -189,10 +190,19 @@ fn scene_profile_settings_apply_and_flags_override_them() {
     );
 
     // A flag overrides its key only; the changed settings invalidate the cache.
-    let second = acuity(&[s(&scene), "--out", s(&out), "--resolution", "112"]);
+    let second = acuity(&[
+        s(&scene),
+        "--out",
+        s(&out),
+        "--resolution",
+        "112",
+        "--min-change",
+        "0",
+    ]);
     assert_eq!(second.status.code(), Some(0));
     assert!(stdout(&second).contains("rock: analysed"));
     assert_eq!(setting("resolution_px"), "112");
+    assert_eq!(setting("min_change_delta_e"), "0");
     assert_eq!(setting("statistic"), "Thickness");
     assert_eq!(setting("threshold_delta_e"), "4.5");
 }

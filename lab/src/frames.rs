@@ -114,6 +114,11 @@ pub struct ProfileArgs {
     /// must be made [default: the scene's `[profiles]`, else 2.3].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub profile_threshold: Option<f32>,
+    /// Smallest colour difference (ΔE*uv, >= 0) at which a pixel counts as
+    /// changed, for profiles that must be made [default: the scene's
+    /// `[profiles]`, else 1].
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_min_change))]
+    pub profile_min_change: Option<f32>,
     /// Print no progress bar or progress lines on stderr (warnings and
     /// errors still print).
     #[cfg_attr(feature = "clap", arg(long))]
@@ -130,6 +135,7 @@ impl ProfileArgs {
             viewpoint_level: self.profile_viewpoints,
             statistic: self.profile_statistic,
             threshold_delta_e: self.profile_threshold,
+            min_change_delta_e: self.profile_min_change,
         }
     }
 

@@ -50,6 +50,15 @@ pub fn parse_threshold(text: &str) -> Result<f32, String> {
     }
 }
 
+/// Parses a colour difference, ΔE*uv, that may be 0 (command-line flag):
+/// a finite number >= 0.
+pub fn parse_min_change(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("`{text}` is not a finite number >= 0")),
+    }
+}
+
 /// Parses a `HORIZxVERT` pair of angles in degrees (command-line flag):
 /// two finite numbers; the command checks their range.
 pub fn parse_angles(text: &str) -> Result<[f32; 2], String> {

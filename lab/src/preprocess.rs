@@ -96,6 +96,11 @@ pub struct PreprocessArgs {
     /// [default: a scene's `[profiles]`, else 2.3].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub threshold: Option<f32>,
+    /// Smallest colour difference, ΔE*uv (>= 0), at which a pixel counts as
+    /// changed between two LODs' renderings; 0 counts any difference
+    /// [default: a scene's `[profiles]`, else 1].
+    #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_min_change))]
+    pub min_change: Option<f32>,
     /// Feature-size statistic: `mean` (a feature's extent averaged over
     /// orientations), `longest` (the lowest frequency it could be seen
     /// at), `thickness` (diameter of the largest inscribed disc: a thin
@@ -343,6 +348,7 @@ pub fn run(args: &PreprocessArgs) -> anyhow::Result<()> {
         msaa_samples: args.msaa,
         viewpoint_level: args.viewpoints,
         threshold_delta_e: args.threshold,
+        min_change_delta_e: args.min_change,
         statistic: args.statistic,
     };
     let settings = scene_spec.overridden_by(flags).analysis_settings();

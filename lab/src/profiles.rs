@@ -36,6 +36,10 @@ pub fn settings_record(settings: &AnalysisSettings) -> std::collections::BTreeMa
         ("viewpoint_level", settings.viewpoint_level.to_string()),
         ("grouping", format!("{:?}", settings.grouping)),
         ("threshold_delta_e", settings.threshold_delta_e.to_string()),
+        (
+            "min_change_delta_e",
+            settings.min_change_delta_e.to_string(),
+        ),
         ("feret_directions", settings.feret_directions.to_string()),
         ("msaa_samples", settings.msaa_samples.to_string()),
         ("statistic", format!("{:?}", settings.statistic)),

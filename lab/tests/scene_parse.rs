@@ -132,12 +132,14 @@ fn profiles_table_is_read_and_flags_override_it() {
 [profiles]
 statistic = "thickness"
 threshold_delta_e = 8.0
+min_change_delta_e = 0.5
 "#
     );
     let scene = Scene::parse(text, "inline.toml").unwrap_or_else(|e| panic!("{e}"));
     let spec = scene.profiles;
     assert_eq!(spec.statistic, Some(FrequencyStatistic::Thickness));
     assert_eq!(spec.threshold_delta_e, Some(8.0));
+    assert_eq!(spec.min_change_delta_e, Some(0.5));
     assert_eq!(spec.resolution_px, None);
     let defaults = AnalysisSettings::default();
     let settings = spec.analysis_settings();
@@ -150,18 +152,33 @@ threshold_delta_e = 8.0
     };
     let merged = spec.overridden_by(flags).analysis_settings();
     assert_eq!(merged.threshold_delta_e, 2.0);
+    assert_eq!(merged.min_change_delta_e, 0.5);
     assert_eq!(merged.resolution_px, 256);
     assert_eq!(merged.statistic, FrequencyStatistic::Thickness);
     // Without the table, everything is the offline pass's default.
     let plain = Scene::parse(
-        &text
-            .replace("[profiles]", "[run]")
-            .replace("statistic = \"thickness\"\nthreshold_delta_e = 8.0", ""),
+        &text.replace("[profiles]", "[run]").replace(
+            "statistic = \"thickness\"\nthreshold_delta_e = 8.0\nmin_change_delta_e = 0.5",
+            "",
+        ),
         "plain.toml",
     )
     .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(plain.profiles, ProfileSpec::default());
     assert_eq!(plain.profiles.analysis_settings(), defaults);
+    // 0 counts any difference; below 0 or not finite is an error naming the key.
+    let zero = text.replace("min_change_delta_e = 0.5", "min_change_delta_e = 0.0");
+    assert!(Scene::parse(&zero, "zero.toml").is_ok());
+    for bad in ["-1.0", "nan", "inf"] {
+        let bad_text = text.replace(
+            "min_change_delta_e = 0.5",
+            &format!("min_change_delta_e = {bad}"),
+        );
+        let err = Scene::parse(&bad_text, "bad.toml")
+            .expect_err(bad)
+            .to_string();
+        assert!(err.contains("profiles.min_change_delta_e"), "{bad}: {err}");
+    }
 }
 
 #[test]

@@ -83,6 +83,7 @@ fn segmentation(c: &mut Criterion) {
         let settings = FeatureSettings {
             grouping: Default::default(),
             threshold_delta_e: 2.3,
+            min_change_delta_e: 1.0,
             feret_directions: 8,
             statistic: Default::default(),
         };

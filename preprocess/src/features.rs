@@ -2,9 +2,15 @@
 //! contrast (Reddy 1998 §3.3).
 //!
 //! # Decisions
-//! - **Unique features** are where the two renderings differ (any
-//!   difference at all: renderings are deterministic, so an unchanged pixel
-//!   has identical bytes), grouped into coherent changes. Two 8-connected
+//! - **Unique features** are where the two renderings differ by more than
+//!   [`FeatureSettings::min_change_delta_e`] (default
+//!   [`DEFAULT_MIN_CHANGE_DELTA_E`], 1 ΔE*uv), grouped into coherent
+//!   changes. A change of one sRGB code step in one channel is at most
+//!   0.94 ΔE*uv: such pixels flip with the rasteriser's last bit (a tenth
+//!   of a pixel's shift in the view changes which), and counted as changed
+//!   they bridge real features into large faint ones, so the profile would
+//!   depend on where the outline fell. The threshold stays below half the
+//!   just-noticeable difference (2.3). Two 8-connected
 //!   changed pixels (a silhouette that moved diagonally by one pixel stays
 //!   one feature) belong to one feature when the change brightens both or
 //!   darkens both ([`Grouping::ChangeSign`], the default). A silhouette or
@@ -92,11 +98,18 @@ pub struct FeatureSettings {
     /// ΔE*uv just-noticeable difference of region growing (> 0; used by
     /// [`Grouping::Regions`]).
     pub threshold_delta_e: f32,
+    /// Smallest colour difference between the renderings, ΔE*uv, at which
+    /// a pixel counts as changed (finite, >= 0; 0: any difference).
+    pub min_change_delta_e: f32,
     /// Number of Feret directions K (>= 1).
     pub feret_directions: u32,
     /// How a feature's size becomes one length.
     pub statistic: FrequencyStatistic,
 }
+
+/// Default [`FeatureSettings::min_change_delta_e`], ΔE*uv: just above one
+/// sRGB code step in one channel (at most 0.94 ΔE*uv).
+pub const DEFAULT_MIN_CHANGE_DELTA_E: f32 = 1.0;
 
 /// One unique feature of a transition.
 #[derive(Debug, Clone, PartialEq)]
@@ -169,6 +182,12 @@ pub fn unique_features(
 ) -> Result<(Vec<UniqueFeature>, Regions), Error> {
     let (w, h) = (finer.width, finer.height);
     let n = w as usize * h as usize;
+    if !(settings.min_change_delta_e.is_finite() && settings.min_change_delta_e >= 0.0) {
+        return Err(Error::Settings {
+            field: "min_change_delta_e",
+            message: format!("{} is not a finite ΔE*uv >= 0", settings.min_change_delta_e),
+        });
+    }
     let regions = match (settings.grouping, regions) {
         (Grouping::Regions, Some((ra, rb))) => Some((&ra.labels, &rb.labels)),
         (Grouping::Regions, None) => {
@@ -195,16 +214,15 @@ pub fn unique_features(
     let (a, b) = (&finer.luv, &coarser.luv);
     // Lightness is monotonic in luminance: its change has the same sign.
     let brighter = |i: usize| b[i][0] > a[i][0];
-    let labels = label_components(
-        w,
-        h,
-        true,
-        |i| a[i] != b[i],
-        |i, j| {
-            brighter(i) == brighter(j)
-                && regions.is_none_or(|(ra, rb)| ra[i] == ra[j] || rb[i] == rb[j])
-        },
-    );
+    let min_change_sq = settings.min_change_delta_e * settings.min_change_delta_e;
+    let changed = |i: usize| {
+        let d = [a[i][0] - b[i][0], a[i][1] - b[i][1], a[i][2] - b[i][2]];
+        a[i] != b[i] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > min_change_sq
+    };
+    let labels = label_components(w, h, true, changed, |i, j| {
+        brighter(i) == brighter(j)
+            && regions.is_none_or(|(ra, rb)| ra[i] == ra[j] || rb[i] == rb[j])
+    });
     let shapes = frequency::measure_regions(&labels, settings.feret_directions);
     // Per feature: sums of Y and of L*, u*, v* in each image.
     let ya: Vec<f32> = a.iter().map(|p| luminance_of_lightness(p[0])).collect();

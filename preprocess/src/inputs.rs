@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use crate::features::Grouping;
+use crate::features::{self, Grouping};
 use crate::frequency::{self, FrequencyStatistic};
 use crate::lods::{self, ProceduralParams};
 use crate::shapes::Shape;
@@ -14,7 +14,7 @@ use crate::{Error, Mesh, segment};
 
 /// Version of the analysis algorithm, part of the settings hash so that
 /// profiles made by an older algorithm are not reused.
-pub const ANALYSIS_VERSION: u32 = 3;
+pub const ANALYSIS_VERSION: u32 = 4;
 
 /// Settings of the analysis.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +37,10 @@ pub struct AnalysisSettings {
     /// ΔE*uv just-noticeable difference of region growing, > 0 (default
     /// 2.3); used by [`Grouping::Regions`].
     pub threshold_delta_e: f32,
+    /// Smallest colour difference between two LODs' renderings, ΔE*uv, at
+    /// which a pixel counts as changed: finite, >= 0 (0: any difference;
+    /// default 1, just above one sRGB code step; see [`crate::features`]).
+    pub min_change_delta_e: f32,
     /// Number of Feret directions K, 4..=360 (default 8).
     pub feret_directions: u32,
     /// MSAA samples, 4 (default), 1 (none) or what the adapter supports;
@@ -56,6 +60,7 @@ impl Default for AnalysisSettings {
             viewpoint_level: 1,
             grouping: Grouping::ChangeSign,
             threshold_delta_e: segment::DEFAULT_THRESHOLD_DELTA_E,
+            min_change_delta_e: features::DEFAULT_MIN_CHANGE_DELTA_E,
             feret_directions: frequency::DEFAULT_FERET_DIRECTIONS,
             msaa_samples: crate::render::DEFAULT_MSAA_SAMPLES,
             statistic: FrequencyStatistic::default(),
@@ -87,6 +92,7 @@ impl AnalysisSettings {
             viewpoint_level,
             grouping,
             threshold_delta_e,
+            min_change_delta_e,
             feret_directions,
             msaa_samples,
             statistic,
@@ -96,10 +102,11 @@ impl AnalysisSettings {
             "analysis v{ANALYSIS_VERSION}; resolution_px={resolution_px}; \
              min_diameter_px={min_diameter_px}; viewpoint_level={viewpoint_level}; \
              grouping={}; threshold_delta_e_bits={:#010x}; \
-             feret_directions={feret_directions}; msaa_samples={msaa_samples}; \
+             min_change_delta_e_bits={:#010x}; feret_directions={feret_directions}; msaa_samples={msaa_samples}; \
              statistic={}; background_srgb={r},{g},{b}",
             grouping.name(),
             threshold_delta_e.to_bits(),
+            min_change_delta_e.to_bits(),
             statistic.name(),
         )
     }
@@ -153,6 +160,12 @@ impl AnalysisSettings {
             return bad(
                 "threshold_delta_e",
                 format!("{} is not a positive number", self.threshold_delta_e),
+            );
+        }
+        if !(self.min_change_delta_e.is_finite() && self.min_change_delta_e >= 0.0) {
+            return bad(
+                "min_change_delta_e",
+                format!("{} is not a finite number >= 0", self.min_change_delta_e),
             );
         }
         if !(4..=360).contains(&self.feret_directions) {

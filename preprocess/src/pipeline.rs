@@ -422,6 +422,7 @@ fn measure_view(
     let feature_settings = FeatureSettings {
         grouping: settings.grouping,
         threshold_delta_e: settings.threshold_delta_e,
+        min_change_delta_e: settings.min_change_delta_e,
         feret_directions: settings.feret_directions,
         statistic: settings.statistic,
     };

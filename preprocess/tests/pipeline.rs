@@ -205,6 +205,7 @@ fn identical_lods_have_no_unique_features() {
     let settings = acuity_preprocess::features::FeatureSettings {
         grouping: Default::default(),
         threshold_delta_e: 2.3,
+        min_change_delta_e: 1.0,
         feret_directions: 8,
         statistic: Default::default(),
     };
@@ -306,8 +307,9 @@ fn default_settings_have_a_pinned_cache_key() {
     // with a new ANALYSIS_VERSION or a new setting.
     assert_eq!(
         AnalysisSettings::default().cache_key(),
-        "analysis v3; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
-         grouping=change_sign; threshold_delta_e_bits=0x40133333; feret_directions=8; \
+        "analysis v4; resolution_px=512; min_diameter_px=16; viewpoint_level=1; \
+         grouping=change_sign; threshold_delta_e_bits=0x40133333; \
+         min_change_delta_e_bits=0x3f800000; feret_directions=8; \
          msaa_samples=4; statistic=mean; background_srgb=0,0,0"
     );
 }
@@ -334,6 +336,10 @@ fn every_setting_changes_the_cache_key() {
         },
         AnalysisSettings {
             threshold_delta_e: f32::from_bits(base.threshold_delta_e.to_bits() + 1),
+            ..base.clone()
+        },
+        AnalysisSettings {
+            min_change_delta_e: 0.0,
             ..base.clone()
         },
         AnalysisSettings {

@@ -42,6 +42,7 @@ fn unique_features(a: &LuvImage, b: &LuvImage, k: u32) -> Vec<Feature> {
     let settings = FeatureSettings {
         grouping: Default::default(),
         threshold_delta_e: 2.3,
+        min_change_delta_e: 1.0,
         feret_directions: k,
         statistic: FrequencyStatistic::Thickness,
     };
@@ -90,28 +91,59 @@ fn identical_images_have_no_features() {
     assert!(f.is_empty());
 }
 
-#[test]
-fn a_faint_change_is_a_feature_with_its_contrast() {
-    // Every difference counts; its contrast decides whether it is seen.
+/// Half the image made lighter by `delta_l` (L*), the features found with
+/// `min_change_delta_e`.
+fn half_lighter(delta_l: f32, min_change_delta_e: f32) -> (LuvImage, Vec<UniqueFeature>) {
     let (a, _) = pair(|_, _| false);
     let mut b = a.clone();
     for p in &mut b.luv[..(N * N / 2) as usize] {
-        p[0] += 0.5;
+        p[0] += delta_l;
     }
     let settings = FeatureSettings {
         grouping: Default::default(),
         threshold_delta_e: 2.3,
+        min_change_delta_e,
         feret_directions: 8,
         statistic: FrequencyStatistic::Thickness,
     };
-    let (f, _) = unique_features_of(&a, &b, &settings).unwrap();
+    (a.clone(), unique_features_of(&a, &b, &settings).unwrap().0)
+}
+
+#[test]
+fn a_faint_change_is_a_feature_with_its_contrast() {
+    // A change above the threshold counts; its contrast decides whether it
+    // is seen.
+    let (a, f) = half_lighter(1.5, 1.0);
     assert_eq!(f.len(), 1);
     assert_eq!(f[0].shape.pixel_count, N * N / 2);
     let y = |l: f32| acuity_preprocess::features::luminance_of_lightness(l);
-    let (ya, yb) = (y(a.luv[0][0]), y(a.luv[0][0] + 0.5));
+    let (ya, yb) = (y(a.luv[0][0]), y(a.luv[0][0] + 1.5));
     let want = (yb - ya) / (yb + ya);
     assert!((f[0].luminance_contrast - want).abs() < 1e-4, "{f:?}");
     assert!(f[0].contrast() >= f[0].luminance_contrast);
+}
+
+#[test]
+fn a_change_within_the_changed_pixel_threshold_is_no_feature() {
+    // 0.5 ΔE*uv: below the default 1, a feature with threshold 0.
+    assert!(half_lighter(0.5, 1.0).1.is_empty());
+    assert_eq!(half_lighter(0.5, 0.0).1.len(), 1);
+}
+
+#[test]
+fn a_bad_changed_pixel_threshold_is_an_error_naming_it() {
+    let (a, _) = pair(|_, _| false);
+    for bad in [f32::NAN, -1.0, f32::INFINITY] {
+        let settings = FeatureSettings {
+            grouping: Default::default(),
+            threshold_delta_e: 2.3,
+            min_change_delta_e: bad,
+            feret_directions: 8,
+            statistic: FrequencyStatistic::Thickness,
+        };
+        let e = unique_features_of(&a, &a, &settings).unwrap_err();
+        assert!(e.to_string().contains("min_change_delta_e"), "{e}");
+    }
 }
 
 #[test]

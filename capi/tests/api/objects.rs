@@ -305,13 +305,18 @@ fn a_triangle_budget_is_met_and_can_be_turned_off() {
     let free = triangles(s);
     // SAFETY: live selector throughout.
     unsafe {
-        expect(acuity_selector_set_budget(s, free / 3), ACUITY_OK);
+        // A budget of 1 is missed at the lowest `s`: the fewest triangles.
+        expect(acuity_selector_set_budget(s, 1), ACUITY_OK);
+        expect(select(s, &frame), ACUITY_OK);
+        let floor = triangles(s);
+        assert!(floor < free, "{floor} of {free}");
+        let budget = floor + (free - floor) / 3;
+        expect(acuity_selector_set_budget(s, budget), ACUITY_OK);
         expect(select(s, &frame), ACUITY_OK);
         let within = triangles(s);
         assert!(
-            within <= free / 3,
-            "{within} triangles for a budget of {}",
-            free / 3
+            within <= budget,
+            "{within} triangles for a budget of {budget}"
         );
         assert!(within > 0);
         expect(acuity_selector_set_budget(s, ACUITY_NO_BUDGET), ACUITY_OK);

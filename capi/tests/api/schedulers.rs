@@ -102,11 +102,12 @@ fn a_reactive_scheduler_started_low_climbs_without_the_late_start_from_c() {
 
 #[test]
 fn both_schedulers_hold_a_rate_from_c() {
-    // A plant: 2 ms of fixed time and a cost per triangle that makes full
-    // detail take 3x the 60 Hz period; every object's coarsest LOD fits.
+    // A plant: 2 ms of fixed time and a cost per triangle that makes the
+    // selection at `s = 1` take 2x the 60 Hz period; every object's
+    // coarsest LOD fits the aim.
     let period_s = 1.0 / 60.0;
     for kind in [ACUITY_SCHEDULER_REACTIVE, ACUITY_SCHEDULER_PREDICTIVE] {
-        let plant = Plant::new(period_s, 3.0);
+        let plant = Plant::new(period_s, 2.0);
         let mut sched = null_mut();
         let mut late = Vec::new();
         // SAFETY: live scheduler, selector and out-pointers throughout.

@@ -63,6 +63,7 @@
 //! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
 //! statistic = "mean"                 # "mean" | "longest" | "thickness" | "shortest"
 //! threshold_delta_e = 2.3            # just-noticeable ΔE*uv of region growing
+//! min_change_delta_e = 1.0           # ΔE*uv a pixel must change by to be a feature's
 //! msaa_samples = 4                   # anti-aliasing of the analysis and of `run`'s frames
 //! ```
 //!
@@ -160,6 +161,9 @@ pub struct ProfileSpec {
     pub statistic: Option<FrequencyStatistic>,
     /// Just-noticeable colour difference, ΔE*uv (finite, > 0).
     pub threshold_delta_e: Option<f32>,
+    /// Smallest ΔE*uv between two LODs' renderings at which a pixel counts
+    /// as changed (finite, >= 0).
+    pub min_change_delta_e: Option<f32>,
 }
 
 impl ProfileSpec {
@@ -172,6 +176,7 @@ impl ProfileSpec {
             viewpoint_level: over.viewpoint_level.or(self.viewpoint_level),
             statistic: over.statistic.or(self.statistic),
             threshold_delta_e: over.threshold_delta_e.or(self.threshold_delta_e),
+            min_change_delta_e: over.min_change_delta_e.or(self.min_change_delta_e),
         }
     }
 
@@ -190,6 +195,7 @@ impl ProfileSpec {
             viewpoint_level: self.viewpoint_level.unwrap_or(d.viewpoint_level),
             statistic: self.statistic.unwrap_or(d.statistic),
             threshold_delta_e: self.threshold_delta_e.unwrap_or(d.threshold_delta_e),
+            min_change_delta_e: self.min_change_delta_e.unwrap_or(d.min_change_delta_e),
             ..d
         }
     }

@@ -206,4 +206,5 @@ pub(super) struct RawProfiles {
     pub(super) viewpoints: Option<u32>,
     pub(super) statistic: Option<String>,
     pub(super) threshold_delta_e: Option<f32>,
+    pub(super) min_change_delta_e: Option<f32>,
 }

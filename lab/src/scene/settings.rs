@@ -43,6 +43,7 @@ impl Ctx<'_> {
             viewpoint_level: p.viewpoints,
             statistic,
             threshold_delta_e: p.threshold_delta_e,
+            min_change_delta_e: p.min_change_delta_e,
         };
         // The offline pass's own domain check; its defaults are valid, so a
         // failure names one of this table's keys.
