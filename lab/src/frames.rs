@@ -114,9 +114,9 @@ pub struct ProfileArgs {
     /// must be made [default: the scene's `[profiles]`, else 2.3].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub profile_threshold: Option<f32>,
-    /// Smallest colour difference (ΔE*uv, >= 0) at which a pixel counts as
-    /// changed, for profiles that must be made [default: the scene's
-    /// `[profiles]`, else 1].
+    /// A pixel counts as changed where two LODs differ by more than this
+    /// (ΔE*uv, >= 0), for profiles that must be made [default: the
+    /// scene's `[profiles]`, else 1].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_min_change))]
     pub profile_min_change: Option<f32>,
     /// Print no progress bar or progress lines on stderr (warnings and

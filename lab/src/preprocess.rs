@@ -96,9 +96,9 @@ pub struct PreprocessArgs {
     /// [default: a scene's `[profiles]`, else 2.3].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_threshold))]
     pub threshold: Option<f32>,
-    /// Smallest colour difference, ΔE*uv (>= 0), at which a pixel counts as
-    /// changed between two LODs' renderings; 0 counts any difference
-    /// [default: a scene's `[profiles]`, else 1].
+    /// A pixel counts as changed where two LODs' renderings differ by more
+    /// than this, ΔE*uv (>= 0); 0 counts any difference [default: a
+    /// scene's `[profiles]`, else 1].
     #[cfg_attr(feature = "clap", arg(long, value_parser = crate::parse::parse_min_change))]
     pub min_change: Option<f32>,
     /// Feature-size statistic: `mean` (a feature's extent averaged over

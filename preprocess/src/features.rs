@@ -98,8 +98,8 @@ pub struct FeatureSettings {
     /// ΔE*uv just-noticeable difference of region growing (> 0; used by
     /// [`Grouping::Regions`]).
     pub threshold_delta_e: f32,
-    /// Smallest colour difference between the renderings, ΔE*uv, at which
-    /// a pixel counts as changed (finite, >= 0; 0: any difference).
+    /// A pixel counts as changed where the renderings differ by more than
+    /// this, ΔE*uv (finite, >= 0; 0: any difference).
     pub min_change_delta_e: f32,
     /// Number of Feret directions K (>= 1).
     pub feret_directions: u32,

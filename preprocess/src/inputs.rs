@@ -37,9 +37,9 @@ pub struct AnalysisSettings {
     /// ΔE*uv just-noticeable difference of region growing, > 0 (default
     /// 2.3); used by [`Grouping::Regions`].
     pub threshold_delta_e: f32,
-    /// Smallest colour difference between two LODs' renderings, ΔE*uv, at
-    /// which a pixel counts as changed: finite, >= 0 (0: any difference;
-    /// default 1, just above one sRGB code step; see [`crate::features`]).
+    /// A pixel counts as changed where two LODs' renderings differ by more
+    /// than this, ΔE*uv: finite, >= 0 (0: any difference; default 1, just
+    /// above one sRGB code step; see [`crate::features`]).
     pub min_change_delta_e: f32,
     /// Number of Feret directions K, 4..=360 (default 8).
     pub feret_directions: u32,

@@ -63,7 +63,7 @@
 //! viewpoints = 1                     # view-sphere level: 0 = 6, 1 = 18, 2 = 66
 //! statistic = "mean"                 # "mean" | "longest" | "thickness" | "shortest"
 //! threshold_delta_e = 2.3            # just-noticeable ΔE*uv of region growing
-//! min_change_delta_e = 1.0           # ΔE*uv a pixel must change by to be a feature's
+//! min_change_delta_e = 1.0           # a pixel changed beyond this ΔE*uv belongs to a feature
 //! msaa_samples = 4                   # anti-aliasing of the analysis and of `run`'s frames
 //! ```
 //!
@@ -161,8 +161,8 @@ pub struct ProfileSpec {
     pub statistic: Option<FrequencyStatistic>,
     /// Just-noticeable colour difference, ΔE*uv (finite, > 0).
     pub threshold_delta_e: Option<f32>,
-    /// Smallest ΔE*uv between two LODs' renderings at which a pixel counts
-    /// as changed (finite, >= 0).
+    /// A pixel counts as changed where two LODs' renderings differ by more
+    /// than this, ΔE*uv (finite, >= 0).
     pub min_change_delta_e: Option<f32>,
 }
 
