@@ -54,7 +54,7 @@
  * The runtime's calibrated visibility budget on a field of view of
  * 43.6 x 33.4 deg, deg (`IMPERCEPTIBLE_VISIBILITY_DEG`).
  */
-#define ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG 36.0
+#define ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG 32.0
 
 /**
  * The steady switch rules (`acuity_settings_just_imperceptible` and the

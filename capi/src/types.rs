@@ -28,7 +28,7 @@ pub const ACUITY_VISIBILITY_BUDGET_IMPERCEPTIBLE: f32 = -1.0;
 
 /// The runtime's calibrated visibility budget on a field of view of
 /// 43.6 x 33.4 deg, deg (`IMPERCEPTIBLE_VISIBILITY_DEG`).
-pub const ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 36.0;
+pub const ACUITY_IMPERCEPTIBLE_VISIBILITY_DEG: f32 = 32.0;
 
 /// The steady switch rules (`acuity_settings_just_imperceptible` and the
 /// command line's scheduled policies): `AcuitySettings::switch_hysteresis`
