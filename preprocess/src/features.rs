@@ -111,6 +111,20 @@ pub struct FeatureSettings {
 /// sRGB code step in one channel (at most 0.94 ΔE*uv).
 pub const DEFAULT_MIN_CHANGE_DELTA_E: f32 = 1.0;
 
+/// Checks a [`FeatureSettings::min_change_delta_e`] (finite, >= 0); the
+/// error names the field. [`unique_features`] and
+/// [`crate::AnalysisSettings::validate`] both check it.
+pub fn check_min_change_delta_e(min_change_delta_e: f32) -> Result<(), Error> {
+    if min_change_delta_e.is_finite() && min_change_delta_e >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Settings {
+            field: "min_change_delta_e",
+            message: format!("{min_change_delta_e} is not a finite ΔE*uv >= 0"),
+        })
+    }
+}
+
 /// One unique feature of a transition.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UniqueFeature {
@@ -182,12 +196,7 @@ pub fn unique_features(
 ) -> Result<(Vec<UniqueFeature>, Regions), Error> {
     let (w, h) = (finer.width, finer.height);
     let n = w as usize * h as usize;
-    if !(settings.min_change_delta_e.is_finite() && settings.min_change_delta_e >= 0.0) {
-        return Err(Error::Settings {
-            field: "min_change_delta_e",
-            message: format!("{} is not a finite ΔE*uv >= 0", settings.min_change_delta_e),
-        });
-    }
+    check_min_change_delta_e(settings.min_change_delta_e)?;
     let regions = match (settings.grouping, regions) {
         (Grouping::Regions, Some((ra, rb))) => Some((&ra.labels, &rb.labels)),
         (Grouping::Regions, None) => {
@@ -215,9 +224,10 @@ pub fn unique_features(
     // Lightness is monotonic in luminance: its change has the same sign.
     let brighter = |i: usize| b[i][0] > a[i][0];
     let min_change_sq = settings.min_change_delta_e * settings.min_change_delta_e;
+    // A squared distance above a threshold >= 0 implies the pixels differ.
     let changed = |i: usize| {
         let d = [a[i][0] - b[i][0], a[i][1] - b[i][1], a[i][2] - b[i][2]];
-        a[i] != b[i] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > min_change_sq
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > min_change_sq
     };
     let labels = label_components(w, h, true, changed, |i, j| {
         brighter(i) == brighter(j)

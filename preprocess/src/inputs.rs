@@ -162,12 +162,7 @@ impl AnalysisSettings {
                 format!("{} is not a positive number", self.threshold_delta_e),
             );
         }
-        if !(self.min_change_delta_e.is_finite() && self.min_change_delta_e >= 0.0) {
-            return bad(
-                "min_change_delta_e",
-                format!("{} is not a finite number >= 0", self.min_change_delta_e),
-            );
-        }
+        features::check_min_change_delta_e(self.min_change_delta_e)?;
         if !(4..=360).contains(&self.feret_directions) {
             return bad(
                 "feret_directions",
