@@ -52,6 +52,7 @@ use glam::{DMat3, DMat4, DVec3, Vec3};
 use gltf::mesh::{Mode, Semantic};
 
 use crate::gltf_data::{percent_decode, read_buffers, read_floats, read_indices, read_uri, short};
+use crate::gltf_nodes::{MAX_NODE_DEPTH, check_hierarchy, lod_suffix, msft_lod_ids};
 use crate::texture::{Texture, Wrap};
 use crate::{Error, Mesh};
 
@@ -78,9 +79,6 @@ pub struct GltfLods {
     /// Non-fatal problems, each naming the file.
     pub warnings: Vec<String>,
 }
-
-/// Deepest node hierarchy accepted (and the guard against cycles).
-const MAX_NODE_DEPTH: usize = 256;
 
 /// Reads a `.gltf` or `.glb` file; buffers and images it names are read
 /// relative to its folder. See the module docs.
@@ -286,91 +284,6 @@ fn parse_document(bytes: &[u8], path: &Path) -> Result<gltf::Gltf, Error> {
         document,
         blob: g.blob,
     })
-}
-
-/// Refuses a node hierarchy with a cycle (a node its own ancestor) or
-/// deeper than [`MAX_NODE_DEPTH`], checked over every node.
-fn check_hierarchy(doc: &gltf::Document) -> Result<(), String> {
-    // 0: not seen, 1: on the current path, 2: done.
-    let mut state = vec![0u8; doc.nodes().len()];
-    for start in doc.nodes() {
-        if state[start.index()] != 0 {
-            continue;
-        }
-        let mut stack: Vec<(gltf::Node, gltf::scene::iter::Children)> =
-            vec![(start.clone(), start.children())];
-        state[start.index()] = 1;
-        while let Some((node, children)) = stack.last_mut() {
-            match children.next() {
-                Some(c) => match state[c.index()] {
-                    1 => {
-                        return Err(format!(
-                            "node {} is its own ancestor (the node hierarchy has a cycle)",
-                            c.index()
-                        ));
-                    }
-                    0 => {
-                        if stack.len() >= MAX_NODE_DEPTH {
-                            return Err(format!(
-                                "node hierarchy deeper than {MAX_NODE_DEPTH} levels"
-                            ));
-                        }
-                        state[c.index()] = 1;
-                        let grand = c.children();
-                        stack.push((c, grand));
-                    }
-                    _ => {}
-                },
-                None => {
-                    state[node.index()] = 2;
-                    stack.pop();
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The `_LOD<n>` suffix of a name (any case), if any.
-fn lod_suffix(name: &str) -> Option<usize> {
-    let at = name.to_ascii_lowercase().rfind("_lod")?;
-    let digits = &name[at + 4..];
-    if digits.is_empty() || digits.len() > 3 || !digits.bytes().all(|c| c.is_ascii_digit()) {
-        return None;
-    }
-    digits.parse().ok()
-}
-
-/// Node index -> its `MSFT_lod` ids (nodes of LOD 1, 2, ...), checked;
-/// nodes without the extension or with no ids are absent.
-fn msft_lod_ids(doc: &gltf::Document) -> Result<HashMap<usize, Vec<usize>>, String> {
-    let n_nodes = doc.nodes().len();
-    let mut out = HashMap::new();
-    for node in doc.nodes() {
-        let Some(ext) = node.extension_value("MSFT_lod") else {
-            continue;
-        };
-        let at = format!("node {} extensions.MSFT_lod.ids", node.index());
-        let ids = ext
-            .get("ids")
-            .and_then(|v| v.as_array())
-            .ok_or_else(|| format!("{at}: missing or not an array"))?;
-        let mut level_nodes = Vec::with_capacity(ids.len());
-        for (k, id) in ids.iter().enumerate() {
-            match id.as_u64() {
-                Some(i) if (i as usize) < n_nodes => level_nodes.push(i as usize),
-                _ => {
-                    return Err(format!(
-                        "{at}[{k}] = {id} is not a node index (0..{n_nodes})"
-                    ));
-                }
-            }
-        }
-        if !level_nodes.is_empty() {
-            out.insert(node.index(), level_nodes);
-        }
-    }
-    Ok(out)
 }
 
 /// Which nodes LOD `level` draws.
@@ -777,15 +690,6 @@ fn texture_of(ctx: &mut Ctx<'_, '_>, tex: &gltf::Texture) -> Result<Option<Arc<T
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn lod_suffixes() {
-        assert_eq!(lod_suffix("rock_LOD0"), Some(0));
-        assert_eq!(lod_suffix("rock_lod12"), Some(12));
-        assert_eq!(lod_suffix("rock_LOD"), None);
-        assert_eq!(lod_suffix("rock_LODx"), None);
-        assert_eq!(lod_suffix("rock"), None);
-    }
 
     #[test]
     fn strips_and_fans_become_lists() {
