@@ -122,12 +122,9 @@ impl Policy {
         Policy::AcuityBudgetUniform,
     ];
 
-    /// Policies that scenes and runs may name besides [`Policy::ALL`].
-    pub const EXTRA: [Policy; 16] = [
-        Policy::AcuityBestEffort,
-        Policy::AcuityBestEffortPooled,
-        Policy::AcuityBestEffortUnweighted,
-        Policy::AcuityBudgetUniform,
+    /// Policies that scenes and runs may name besides [`Policy::ALL`] and
+    /// [`Policy::BUDGETED`].
+    pub const EXTRA: [Policy; 12] = [
         Policy::AcuityBestEffortMatched,
         Policy::AcuityBestEffortMatchedPooled,
         Policy::AcuityPredictiveUniform,
@@ -260,7 +257,12 @@ impl Policy {
 
 /// A policy by its scene-file name.
 pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
-    let known = || Policy::ALL.into_iter().chain(Policy::EXTRA);
+    let known = || {
+        Policy::ALL
+            .into_iter()
+            .chain(Policy::BUDGETED)
+            .chain(Policy::EXTRA)
+    };
     known().find(|p| p.name() == name.trim()).ok_or_else(|| {
         let names: Vec<&str> = known().map(|p| p.name()).collect();
         crate::error::input_error(format!(
@@ -268,4 +270,26 @@ pub fn policy_by_name(name: &str) -> anyhow::Result<Policy> {
             names.join(", ")
         ))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_nameable_policy_is_listed_once_and_found_by_its_name() {
+        let listed: Vec<Policy> = Policy::ALL
+            .into_iter()
+            .chain(Policy::BUDGETED)
+            .chain(Policy::EXTRA)
+            .collect();
+        for (i, p) in listed.iter().enumerate() {
+            assert!(!listed[..i].contains(p), "{p:?} listed twice");
+            assert_eq!(policy_by_name(p.name()).unwrap(), *p);
+        }
+        // Set by `experiment framerate` alone, never named.
+        assert!(!listed.contains(&Policy::ScreenSizeReactivePeriod));
+        let err = policy_by_name("nonsense").unwrap_err().to_string();
+        assert!(err.contains("acuity_best_effort_pooled"), "{err}");
+    }
 }
