@@ -131,6 +131,49 @@ fn cross_fades_draw_the_lod_going_as_well_and_leave_the_choices_alone() {
 }
 
 #[test]
+fn an_objects_screen_size_bias_multiplies_the_runs() {
+    let dir = scratch("object_bias");
+    let run = |name: &str, text: String| {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.join(name);
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "8",
+            "--policies",
+            "screen_size",
+            "--cache-dir",
+            dir.to_str().unwrap(),
+        ];
+        args.extend(COARSE);
+        let o = acuity(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        triangles_by_frame(&out)
+    };
+    let on_object = TINY.replace(
+        "scale = 0.5 }\n",
+        "scale = 0.5 }\nscreen_size_bias = 0.25\n",
+    );
+    assert_ne!(on_object, TINY);
+    let plain = run("plain", TINY.to_owned());
+    let object = run("object", on_object);
+    let whole_run = run(
+        "run",
+        TINY.replace("[run]\n", "[run]\nscreen_size_bias = 0.25\n"),
+    );
+    assert_eq!(object, whole_run, "one object's bias is the run's for it");
+    assert!(
+        object.iter().zip(&plain).all(|(o, p)| o.2 <= p.2),
+        "{object:?} against {plain:?}"
+    );
+    assert!(object.iter().zip(&plain).any(|(o, p)| o.2 < p.2));
+}
+
+#[test]
 fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
     let dir = scratch("single_lod");
     let scene = dir.join("single.toml");

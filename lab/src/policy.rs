@@ -296,10 +296,11 @@ impl PolicyRunner {
         let screen = world
             .objects
             .iter()
-            .map(|o| {
+            .zip(&world.scene.objects)
+            .map(|(o, spec)| {
                 ScreenSizeLod::new(
                     thresholds_from(&world.scene.run.screen_size_thresholds, o.meshes.len()),
-                    screen_size_bias,
+                    screen_size_bias * spec.screen_size_bias,
                     BelowLast::KeepCoarsest,
                 )
                 .map_err(|e| anyhow::Error::new(e).context("screen-size policy"))

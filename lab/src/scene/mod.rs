@@ -28,6 +28,7 @@
 //! name = "rocks"
 //! procedural = { kind = "rock", triangles = [3928, 834, 254, 76] }
 //! copies = { count = 50, seed = 7, volume_min = [-10, 0, -40], volume_max = [10, 3, -5], random_rotation = true }
+//! screen_size_bias = 0.5             # optional: this object's factor on run.screen_size_bias
 //!
 //! [camera]
 //! duration_s = 5.0
@@ -344,6 +345,12 @@ pub struct ObjectSpec {
     pub profile: Option<PathBuf>,
     /// Where its instances stand.
     pub placement: PlacementSpec,
+    /// This object's factor on the screen-size baseline's bias
+    /// (`run.screen_size_bias`), finite and > 0, 1 by default: a per-asset
+    /// LOD setting, as an engine's LOD group carries its own thresholds, so
+    /// the baseline can be tuned per kind of object. Only the screen-size
+    /// policies read it.
+    pub screen_size_bias: f64,
 }
 
 impl ObjectSpec {

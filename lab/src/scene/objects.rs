@@ -143,11 +143,19 @@ impl Ctx<'_> {
             Some(p) => Some(self.resolve(&p)),
             None => None,
         };
+        let screen_size_bias = o.screen_size_bias.unwrap_or(1.0);
+        if !(screen_size_bias.is_finite() && screen_size_bias > 0.0) {
+            return Err(self.invalid(
+                at("screen_size_bias"),
+                format!("{screen_size_bias} must be finite and > 0"),
+            ));
+        }
         Ok(ObjectSpec {
             name: o.name,
             source,
             profile,
             placement,
+            screen_size_bias,
         })
     }
 

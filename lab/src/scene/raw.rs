@@ -63,6 +63,7 @@ pub(super) struct RawObject {
     pub(super) profile: Option<String>,
     pub(super) transform: Option<RawTransform>,
     pub(super) copies: Option<RawCopies>,
+    pub(super) screen_size_bias: Option<f64>,
 }
 
 #[derive(Deserialize)]

@@ -57,6 +57,26 @@ fn cross_fade_time_is_read_and_checked() {
 }
 
 #[test]
+fn an_objects_screen_size_bias_is_read_and_checked() {
+    let s = Scene::parse(MINIMAL, "min.toml").unwrap();
+    assert_eq!(s.objects[0].screen_size_bias, 1.0);
+    let with = |v: &str| {
+        MINIMAL.replace(
+            "triangles = [320, 80] }",
+            &format!("triangles = [320, 80] }}\nscreen_size_bias = {v}"),
+        )
+    };
+    let s = Scene::parse(&with("0.35"), "min.toml").unwrap();
+    assert_eq!(s.objects[0].screen_size_bias, 0.35);
+    for bad in ["0", "-1", "inf", "nan"] {
+        let e = Scene::parse(&with(bad), "min.toml").unwrap_err();
+        assert_eq!(e.field(), Some("objects[0].screen_size_bias"), "{bad}: {e}");
+        let finite = bad.parse::<f64>().is_ok_and(f64::is_finite);
+        assert!(!finite || e.to_string().contains("finite and > 0"), "{e}");
+    }
+}
+
+#[test]
 fn physical_screen_gives_the_papers_field_of_view() {
     let text = MINIMAL.replace(
         "fov_deg = [43.6, 33.4]",
