@@ -143,7 +143,7 @@ fn draw_bar_plot<DB: DrawingBackend>(
             .map_err(fail)?;
     }
     if !plot.series.is_empty() {
-        draw_legend(&mut chart).map_err(fail)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight).map_err(fail)?;
     }
     Ok(())
 }

@@ -254,7 +254,8 @@ fn draw_line_plot<DB: DrawingBackend>(
                 }
             }
             if !plot.series.is_empty() {
-                draw_legend(&mut chart).map_err(fail)?;
+                let corner = emptiest_corner(plot, (x0, x1), (y0, y1));
+                draw_legend(&mut chart, corner).map_err(fail)?;
             }
         }};
     }
@@ -320,14 +321,74 @@ pub fn draw_label(
     .map_err(|e| anyhow::anyhow!("drawing a label: {e}"))
 }
 
-/// The legend of a chart's labelled series, in the upper right corner
-/// (the style every plot of the tool shares).
+/// The share of a corner's width and height the legend is taken to
+/// cover when [`emptiest_corner`] looks for the lines under it.
+const LEGEND_SHARE: (f64, f64) = (0.5, 0.45);
+
+/// The corner of the plotting area where the lines pass least, for the
+/// legend: the lines are sampled (20 points per segment between data
+/// points, in the axes' own scale) and counted in each corner's
+/// [`LEGEND_SHARE`] of the area. Ties keep the upper right, then the
+/// upper left, lower right and lower left, so a plot without data keeps
+/// the usual place.
+fn emptiest_corner(plot: &LinePlot, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPosition {
+    let to_unit = |px: f64, py: f64| {
+        let (u, (a, b)) = if plot.log_x {
+            (px.log10(), (x.0.log10(), x.1.log10()))
+        } else {
+            (px, x)
+        };
+        ((u - a) / (b - a), (py - y.0) / (y.1 - y.0))
+    };
+    // (right, upper), in the order ties are broken.
+    let corners = [(true, true), (false, true), (true, false), (false, false)];
+    let mut counts = [0usize; 4];
+    for s in &plot.series {
+        for part in segments(&s.points, plot.log_x) {
+            let unit: Vec<(f64, f64)> = part.iter().map(|&(px, py)| to_unit(px, py)).collect();
+            let samples = unit.windows(2).flat_map(|w| {
+                (0..20).map(move |i| {
+                    let t = f64::from(i) / 20.0;
+                    (
+                        w[0].0 + t * (w[1].0 - w[0].0),
+                        w[0].1 + t * (w[1].1 - w[0].1),
+                    )
+                })
+            });
+            for (u, v) in samples.chain(unit.last().copied()) {
+                for (k, &(right, upper)) in corners.iter().enumerate() {
+                    let in_x = if right {
+                        u >= 1.0 - LEGEND_SHARE.0
+                    } else {
+                        u <= LEGEND_SHARE.0
+                    };
+                    let in_y = if upper {
+                        v >= 1.0 - LEGEND_SHARE.1
+                    } else {
+                        v <= LEGEND_SHARE.1
+                    };
+                    counts[k] += usize::from(in_x && in_y);
+                }
+            }
+        }
+    }
+    match (0..4).min_by_key(|&k| (counts[k], k)) {
+        Some(1) => SeriesLabelPosition::UpperLeft,
+        Some(2) => SeriesLabelPosition::LowerRight,
+        Some(3) => SeriesLabelPosition::LowerLeft,
+        _ => SeriesLabelPosition::UpperRight,
+    }
+}
+
+/// The legend of a chart's labelled series at `corner` (the style every
+/// plot of the tool shares).
 pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
+    corner: SeriesLabelPosition,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(corner)
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(200, 200, 200))
         .label_font(("sans-serif", 13))
@@ -337,6 +398,53 @@ pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn line(points: &[(f64, f64)], log_x: bool) -> LinePlot {
+        LinePlot {
+            title: String::new(),
+            x_label: String::new(),
+            y_label: String::new(),
+            series: vec![Series {
+                name: "a".into(),
+                points: points.to_vec(),
+            }],
+            log_x,
+            markers: false,
+            y_from_zero: false,
+        }
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_lines_are_not() {
+        // JOD rising with triangles: the lower right is empty.
+        let rising = line(&[(0.1, 8.6), (0.3, 9.5), (0.6, 9.8), (1.0, 10.0)], false);
+        let (x, y) = ranges(&rising);
+        assert_eq!(
+            emptiest_corner(&rising, x, y),
+            SeriesLabelPosition::LowerRight
+        );
+        // Frame time falling as the bias drops, on a log axis: the upper
+        // right is empty.
+        let falling = line(&[(0.25, 50.0), (1.0, 30.0), (4.0, 10.0)], true);
+        let (x, y) = ranges(&falling);
+        assert_eq!(
+            emptiest_corner(&falling, x, y),
+            SeriesLabelPosition::UpperRight
+        );
+        // Along the top, then down at the right: the lower left is empty.
+        let flat_top = line(&[(0.0, 1.0), (1.0, 1.0), (2.0, 0.0)], false);
+        let (x, y) = ranges(&flat_top);
+        assert_eq!(
+            emptiest_corner(&flat_top, x, y),
+            SeriesLabelPosition::LowerLeft
+        );
+        let empty = line(&[], false);
+        let (x, y) = ranges(&empty);
+        assert_eq!(
+            emptiest_corner(&empty, x, y),
+            SeriesLabelPosition::UpperRight
+        );
+    }
 
     #[test]
     fn ticks_read_well() {
