@@ -174,6 +174,81 @@ fn an_objects_screen_size_bias_multiplies_the_runs() {
 }
 
 #[test]
+fn the_object_bias_flag_overrides_the_scene_and_names_what_is_wrong() {
+    let dir = scratch("object_bias_flag");
+    let error_csv = |name: &str, scene_text: &str, extra: &[&str]| {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, scene_text).unwrap();
+        let out = dir.join(name);
+        let mut args = vec![
+            "experiment",
+            "error",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "4",
+            "--biases",
+            "1",
+            "--scales",
+            "1",
+            "--acuity-policies",
+            "acuity_all",
+            "--flip-every",
+            "1000",
+            "--cache-dir",
+            dir.to_str().unwrap(),
+        ];
+        args.extend(COARSE);
+        args.extend_from_slice(extra);
+        let o = acuity(&args);
+        (o.status.code(), common::stderr(&o), out.join("error.csv"))
+    };
+    let keyed = TINY.replace(
+        "scale = 0.5 }\n",
+        "scale = 0.5 }\nscreen_size_bias = 0.25\n",
+    );
+    let (code, e, by_key) = error_csv("key", &keyed, &[]);
+    assert_eq!(code, Some(0), "{e}");
+    let (code, e, by_flag) = error_csv("flag", TINY, &["--screen-size-object-bias", "rocks=0.25"]);
+    assert_eq!(code, Some(0), "{e}");
+    // Policy, knob and triangles: the frame times differ run to run.
+    let triangles = |p: &Path| -> Vec<String> {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let c: Vec<&str> = l.split(',').collect();
+                format!("{},{},{}", c[0], c[1], c[4])
+            })
+            .collect()
+    };
+    let key_rows = triangles(&by_key);
+    assert_eq!(key_rows.len(), 4, "{key_rows:?}");
+    assert_eq!(key_rows, triangles(&by_flag));
+    let (code, e, plain) = error_csv("plain", TINY, &[]);
+    assert_eq!(code, Some(0), "{e}");
+    assert_ne!(key_rows[2], triangles(&plain)[2], "screen size at bias 1");
+    let (code, e, _) = error_csv(
+        "unknown",
+        TINY,
+        &["--screen-size-object-bias", "boulder=0.5"],
+    );
+    assert_eq!(code, Some(2), "{e}");
+    assert!(
+        e.contains("no object `boulder`") && e.contains("rocks"),
+        "{e}"
+    );
+    let (code, e, _) = error_csv("zero", TINY, &["--screen-size-object-bias", "rocks=0"]);
+    assert_eq!(code, Some(2), "{e}");
+    assert!(
+        e.contains("--screen-size-object-bias") && e.contains("> 0"),
+        "{e}"
+    );
+}
+
+#[test]
 fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
     let dir = scratch("single_lod");
     let scene = dir.join("single.toml");

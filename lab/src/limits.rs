@@ -212,6 +212,32 @@ pub fn parse_spike_load(text: &str) -> Result<f64, String> {
     check_spike_load(load).map(|()| load)
 }
 
+/// Parses `NAME=BIAS`, one object's own screen-size bias (finite, > 0).
+pub fn parse_object_bias(text: &str) -> Result<(String, f64), String> {
+    let (name, bias) = text
+        .split_once('=')
+        .ok_or_else(|| format!("`{text}` is not NAME=BIAS"))?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err(format!("`{text}` names no object"));
+    }
+    let bias: f64 = bias
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{bias}` is not a number"))?;
+    check_object_bias(bias).map(|()| (name.to_owned(), bias))
+}
+
+/// Checks one object's own screen-size bias (a factor on the run's):
+/// finite and > 0.
+pub fn check_object_bias(bias: f64) -> Result<(), String> {
+    if bias.is_finite() && bias > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{bias} must be finite and > 0"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,6 +261,13 @@ mod tests {
             assert!(e.contains("0..=10"), "{t}: {e}");
         }
         assert_eq!(parse_spike_load("0.5"), Ok(0.5));
+        assert_eq!(
+            parse_object_bias(" fine_rock = 0.35"),
+            Ok(("fine_rock".to_owned(), 0.35))
+        );
+        for t in ["fine_rock", "=0.5", "a=0", "a=-1", "a=inf", "a=x"] {
+            assert!(parse_object_bias(t).is_err(), "{t}");
+        }
         assert!(check_dt_s(1e-300).is_err() && check_dt_s(1e300).is_err());
         assert!(check_dt_s(f64::NAN).is_err() && check_dt_s(0.05).is_ok());
     }

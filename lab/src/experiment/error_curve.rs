@@ -79,6 +79,12 @@ pub struct ErrorArgs {
     /// screen-size baseline; default: the scene's `run.screen_size_foveated`).
     #[cfg_attr(feature = "clap", arg(long))]
     pub screen_size_foveated: bool,
+    /// One object's own screen-size bias, `NAME=BIAS` (finite, > 0;
+    /// repeatable): a factor on screen size's bias for that object of the
+    /// scene (default: the object's `screen_size_bias`), a table tuned per
+    /// kind of object.
+    #[cfg_attr(feature = "clap", arg(long = "screen-size-object-bias", value_name = "NAME=BIAS", value_parser = crate::limits::parse_object_bias))]
+    pub screen_size_object_biases: Vec<(String, f64)>,
     /// Options every experiment shares.
     #[cfg_attr(feature = "clap", command(flatten))]
     pub common: CommonArgs,
@@ -99,6 +105,7 @@ impl Default for ErrorArgs {
             metric: vec![Metric::Flip],
             screen_size_thresholds: None,
             screen_size_foveated: false,
+            screen_size_object_biases: Vec::new(),
             common: CommonArgs::default(),
         }
     }
@@ -144,6 +151,24 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         world.scene.run.screen_size_thresholds = table.clone();
     }
     world.scene.run.screen_size_foveated |= args.screen_size_foveated;
+    for (name, bias) in &args.screen_size_object_biases {
+        crate::limits::check_object_bias(*bias).map_err(|e| {
+            crate::error::input_error(format!("--screen-size-object-bias {name}: {e}"))
+        })?;
+        let names: Vec<&str> = world
+            .scene
+            .objects
+            .iter()
+            .map(|o| o.name.as_str())
+            .collect();
+        let Some(i) = names.iter().position(|n| n == name) else {
+            crate::bail_input!(
+                "--screen-size-object-bias: the scene has no object `{name}` (it has {})",
+                names.join(", ")
+            );
+        };
+        world.scene.objects[i].screen_size_bias = *bias;
+    }
     let out = args.common.out_dir("error")?;
     let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
     settings.flip_every_n_frames = if flip { args.flip_every } else { 0 };

@@ -144,12 +144,8 @@ impl Ctx<'_> {
             None => None,
         };
         let screen_size_bias = o.screen_size_bias.unwrap_or(1.0);
-        if !(screen_size_bias.is_finite() && screen_size_bias > 0.0) {
-            return Err(self.invalid(
-                at("screen_size_bias"),
-                format!("{screen_size_bias} must be finite and > 0"),
-            ));
-        }
+        limits::check_object_bias(screen_size_bias)
+            .map_err(|message| self.invalid(at("screen_size_bias"), message))?;
         Ok(ObjectSpec {
             name: o.name,
             source,
