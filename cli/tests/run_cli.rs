@@ -86,30 +86,44 @@ fn triangles_by_frame(out: &Path) -> Vec<(String, u32, u64)> {
         .collect()
 }
 
+/// `acuity run` of `scene` (coarse profiles cached in `dir`) for `frames`
+/// frames under `policies`, with `extra` flags, into `dir/name`: the
+/// triangles per (policy, frame).
+fn run_triangles(
+    dir: &Path,
+    scene: &Path,
+    name: &str,
+    frames: &str,
+    policies: &str,
+    extra: &[&str],
+) -> Vec<(String, u32, u64)> {
+    let out = dir.join(name);
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--frames",
+        frames,
+        "--policies",
+        policies,
+        "--cache-dir",
+        dir.to_str().unwrap(),
+    ];
+    args.extend(COARSE);
+    args.extend_from_slice(extra);
+    let o = acuity(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    triangles_by_frame(&out)
+}
+
 #[test]
 fn cross_fades_draw_the_lod_going_as_well_and_leave_the_choices_alone() {
     let dir = scratch("cross_fade");
     let scene = dir.join("tiny.toml");
     std::fs::write(&scene, TINY).unwrap();
     let run = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let mut args = vec![
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--frames",
-            "16",
-            "--policies",
-            "screen_size,acuity_all",
-            "--cache-dir",
-            dir.to_str().unwrap(),
-        ];
-        args.extend(COARSE);
-        args.extend_from_slice(extra);
-        let o = acuity(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        triangles_by_frame(&out)
+        run_triangles(&dir, &scene, name, "16", "screen_size,acuity_all", extra)
     };
     let plain = run("off", &[]);
     let faded = run("on", &["--cross-fade-s", "0.5"]);
@@ -136,23 +150,7 @@ fn an_objects_screen_size_bias_multiplies_the_runs() {
     let run = |name: &str, text: String| {
         let scene = dir.join(format!("{name}.toml"));
         std::fs::write(&scene, text).unwrap();
-        let out = dir.join(name);
-        let mut args = vec![
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--frames",
-            "8",
-            "--policies",
-            "screen_size",
-            "--cache-dir",
-            dir.to_str().unwrap(),
-        ];
-        args.extend(COARSE);
-        let o = acuity(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        triangles_by_frame(&out)
+        run_triangles(&dir, &scene, name, "8", "screen_size", &[])
     };
     let on_object = TINY.replace(
         "scale = 0.5 }\n",
