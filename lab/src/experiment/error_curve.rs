@@ -155,19 +155,15 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         crate::limits::check_object_bias(*bias).map_err(|e| {
             crate::error::input_error(format!("--screen-size-object-bias {name}: {e}"))
         })?;
-        let names: Vec<&str> = world
-            .scene
-            .objects
-            .iter()
-            .map(|o| o.name.as_str())
-            .collect();
-        let Some(i) = names.iter().position(|n| n == name) else {
+        let objects = &mut world.scene.objects;
+        let Some(object) = objects.iter_mut().find(|o| o.name == *name) else {
+            let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
             crate::bail_input!(
                 "--screen-size-object-bias: the scene has no object `{name}` (it has {})",
                 names.join(", ")
             );
         };
-        world.scene.objects[i].screen_size_bias = *bias;
+        object.screen_size_bias = *bias;
     }
     let out = args.common.out_dir("error")?;
     let mut settings = PlaySettings::from_scene(&world.scene, Some(args.frames))?;
