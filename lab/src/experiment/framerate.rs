@@ -311,11 +311,20 @@ pub struct HeldRate {
     /// whatever the scheduler estimated.
     pub over_in_spikes_at_limit: f64,
     /// Share of the frames within the spikes over the period with the
-    /// knob short of its end and the target not reported out of reach,
-    /// less each spike's first frame where the policy is not told of the
-    /// load (a load nobody announced shows first in that frame's time):
-    /// the late frames within spikes the scheduler could have avoided.
+    /// knob short of its end, the target not reported out of reach and
+    /// the cost floor not above the aim, less each spike's first frame
+    /// where the policy is not told of the load (a load nobody announced
+    /// shows first in that frame's time): the late frames within spikes
+    /// the scheduler could have avoided. A floor between the aim and the
+    /// period leaves no LOD choice the headroom for the frames' jitter, as
+    /// [`over_settled_with_room`](Self::over_settled_with_room) counts
+    /// outside the spikes.
     pub over_in_spikes_with_room: f64,
+    /// Share of the frames within the spikes whose cost floor lay above
+    /// the scheduler's aim (out of reach included): the frames the target
+    /// was held in, if at all, only by their jitter; `None` without a
+    /// scheduler that sees the floor.
+    pub floor_above_aim_in_spikes: Option<f64>,
     /// Share of the frames outside the spikes reported out of reach.
     pub unreachable_outside_spikes: Option<f64>,
     /// Of the frames outside the spikes after the start-up, the share with
@@ -404,8 +413,13 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
                     .then(|| share(&inside, |f| over(f) && !unreachable(f))),
                 over_in_spikes_at_limit: share(&inside, |f| over(f) && f.at_limit),
                 over_in_spikes_with_room: share(&inside, |f| {
-                    over(f) && !f.at_limit && !unreachable(f) && (told || !first_of_spike(f))
+                    over(f)
+                        && !f.at_limit
+                        && !unreachable(f)
+                        && !floor_above_aim(f)
+                        && (told || !first_of_spike(f))
                 }),
+                floor_above_aim_in_spikes: sees_floor.then(|| share(&inside, floor_above_aim)),
                 unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
                 at_limit_settled: share(&settled, |f| f.at_limit),
                 floor_above_aim_settled: sees_floor.then(|| share(&settled, floor_above_aim)),
@@ -427,9 +441,10 @@ fn pct(v: Option<f64>) -> String {
 }
 
 /// The schedulers' table: over% outside and within the spikes, within them
-/// out of reach and over while reachable, over with the knob at its end
-/// (`in:lim%`) and short of it where reachable (`in:room%`, each spike's
-/// first frame not counted for a policy not told of the load), once
+/// out of reach and over while reachable, the floor above the aim
+/// (`in:flr>aim%`), over with the knob at its end (`in:lim%`) and short of
+/// it with the floor below the aim (`in:room%`, each spike's first frame
+/// not counted for a policy not told of the load), once
 /// settled the floor above the aim, the late frames with room and the
 /// frames with the knob at its end (`lim%set`), switches, reversals,
 /// triangles, `s` and JOD.
@@ -437,13 +452,14 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
+        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
         "over% set",
         "over% in",
         "unreach%",
         "over%reach",
+        "in:flr>aim%",
         "in:lim%",
         "in:room%",
         "unr%out",
@@ -460,13 +476,14 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
+            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
             r.policy.label(r.knob),
             pct(Some(r.over_outside_spikes)),
             pct(Some(r.over_settled)),
             pct(Some(r.over_in_spikes)),
             pct(r.unreachable_in_spikes),
             pct(r.over_reachable_in_spikes),
+            pct(r.floor_above_aim_in_spikes),
             pct(Some(r.over_in_spikes_at_limit)),
             pct(Some(r.over_in_spikes_with_room)),
             pct(r.unreachable_outside_spikes),
@@ -487,13 +504,13 @@ pub fn held_table(rows: &[HeldRate]) -> String {
 /// The schedulers' table as CSV (shares as fractions).
 pub fn held_csv(rows: &[HeldRate]) -> String {
     let mut t = String::from(
-        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room,at_limit_settled\n",
+        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room,at_limit_settled,floor_above_aim_in_spikes\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for r in rows {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4},{:.4}",
+            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4},{:.4},{}",
             r.policy.label(r.knob),
             r.over_outside_spikes,
             r.over_settled,
@@ -512,6 +529,7 @@ pub fn held_csv(rows: &[HeldRate]) -> String {
             r.over_in_spikes_at_limit,
             r.over_in_spikes_with_room,
             r.at_limit_settled,
+            o(r.floor_above_aim_in_spikes),
         );
     }
     t
@@ -615,25 +633,29 @@ mod tests {
 
     #[test]
     fn late_frames_in_a_spike_are_told_apart_by_the_knob_and_the_spike_start() {
-        // A 100 ms period; a spike of five frames: its first late with
-        // the knob short of its end (a blind controller could not know),
-        // the second the same (the controller's own), the third late with
-        // the knob at its end (the policy's floor), the fourth late with
-        // the target reported out of reach, the fifth on time.
+        // A 100 ms period and a 90 ms aim; a spike of six frames: its
+        // first late with the knob short of its end (a blind controller
+        // could not know), the second the same (the controller's own), the
+        // third late with the knob at its end (the policy's floor), the
+        // fourth late with the target reported out of reach, the fifth late
+        // with the floor between the aim and the period (only the jitter
+        // could keep it on time), the sixth on time.
         let mut frames = vec![
             frame(0.9, 90.0, false),
             frame(1.0, 150.0, true),
             frame(1.1, 120.0, true),
             frame(1.2, 110.0, true),
             floored(1.3, 130.0, true, 120.0),
-            frame(1.4, 95.0, true),
-            frame(1.5, 90.0, false),
+            floored(1.4, 103.0, true, 95.0),
+            frame(1.5, 95.0, true),
+            frame(1.6, 90.0, false),
         ];
         frames[3].at_limit = true;
         let held = held_at_100_ms(frames.clone());
-        assert_eq!(held.over_in_spikes, 4.0 / 5.0);
-        assert_eq!(held.over_in_spikes_at_limit, 1.0 / 5.0);
-        assert_eq!(held.over_in_spikes_with_room, 1.0 / 5.0);
+        assert_eq!(held.over_in_spikes, 5.0 / 6.0);
+        assert_eq!(held.over_in_spikes_at_limit, 1.0 / 6.0);
+        assert_eq!(held.over_in_spikes_with_room, 1.0 / 6.0);
+        assert_eq!(held.floor_above_aim_in_spikes, Some(2.0 / 6.0));
         // Told of the load, the first frame counts too.
         let runs = [PolicyRun {
             policy: Policy::AcuityPredictiveAnnounced,
@@ -642,6 +664,6 @@ mod tests {
             worst: None,
         }];
         let told = held_rates(&runs, &summarize(&runs, 0.1), 0.1).remove(0);
-        assert_eq!(told.over_in_spikes_with_room, 2.0 / 5.0);
+        assert_eq!(told.over_in_spikes_with_room, 2.0 / 6.0);
     }
 }
