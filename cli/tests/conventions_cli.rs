@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{acuity, coarse, stderr};
+use common::{acuity, run_policies, stderr};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     common::scratch("conventions_cli", name)
@@ -147,14 +147,7 @@ fn a_run_writes_its_summary_as_json_beside_the_csv_and_plots_as_svg() {
     let scene = dir.join("tiny.toml");
     std::fs::write(&scene, tiny()).unwrap();
     let out = dir.join("out");
-    let o = acuity(&coarse(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--policies",
-        "full,screen_size,acuity_all",
-    ]));
+    let o = run_policies(&scene, &out, "full,screen_size,acuity_all", &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();

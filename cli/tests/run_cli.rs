@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{COARSE, TINY_SCENE as TINY, acuity, coarse};
+use common::{COARSE, TINY_SCENE as TINY, acuity, coarse, run_policies};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("run_cli", name)
@@ -98,21 +98,12 @@ fn run_triangles(
     extra: &[&str],
 ) -> Vec<(String, u32, u64)> {
     let out = dir.join(name);
-    let mut args = vec![
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--frames",
-        frames,
-        "--policies",
-        policies,
-        "--cache-dir",
-        dir.to_str().unwrap(),
-    ];
-    args.extend(COARSE);
-    args.extend_from_slice(extra);
-    let o = acuity(&args);
+    let flags = [
+        &["--frames", frames, "--cache-dir", dir.to_str().unwrap()],
+        extra,
+    ]
+    .concat();
+    let o = run_policies(scene, &out, policies, &flags);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     triangles_by_frame(&out)
 }
@@ -257,14 +248,7 @@ fn a_single_lod_object_parses_loads_and_is_always_drawn_whole() {
     );
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("out");
-    let o = acuity(&coarse(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--policies",
-        "full,screen_size,acuity_all",
-    ]));
+    let o = run_policies(&scene, &out, "full,screen_size,acuity_all", &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("frames.csv")).unwrap();
     for line in csv.lines().skip(1) {
@@ -581,16 +565,13 @@ fn a_positive_scale_too_small_for_f32_is_the_coarsest_not_full_detail() {
     )
     .unwrap();
     let out = dir.join("out");
-    let o = acuity(&coarse(&[
-        "run",
-        s.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--policies",
+    let cache = dir.join("cache");
+    let o = run_policies(
+        &s,
+        &out,
         "full,acuity_size",
-        "--cache-dir",
-        dir.join("cache").to_str().unwrap(),
-    ]));
+        &["--cache-dir", cache.to_str().unwrap()],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let tris = |policy: &str| -> f64 {

@@ -84,3 +84,19 @@ pub const COARSE: [&str; 5] = [
 pub fn coarse<'a>(args: &[&'a str]) -> Vec<&'a str> {
     [args, &COARSE].concat()
 }
+
+/// `acuity run SCENE --out OUT --policies POLICIES`, then `extra` and
+/// [`COARSE`].
+pub fn run_policies(scene: &Path, out: &Path, policies: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--policies",
+        policies,
+    ];
+    args.extend_from_slice(extra);
+    args.extend(COARSE);
+    acuity(&args)
+}
