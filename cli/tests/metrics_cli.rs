@@ -8,7 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{COARSE, TINY_SCENE as TINY, acuity};
+use common::{COARSE, TINY_SCENE as TINY, acuity, run_policies};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("metrics_cli", name)
@@ -285,20 +285,12 @@ fn check_sequence(dir: &Path, frames: u32) -> Vec<(u32, f64, f64)> {
 /// `acuity run` of `scene`'s first 3 frames under `policies`, at the
 /// coarse profile settings, dumping the frames to `dump`.
 fn run_dumping(scene: &Path, out: &Path, dump: &Path, policies: &str) -> std::process::Output {
-    let mut args = vec![
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--frames",
-        "3",
-        "--policies",
+    run_policies(
+        scene,
+        out,
         policies,
-        "--dump-frames",
-        dump.to_str().unwrap(),
-    ];
-    args.extend(COARSE);
-    acuity(&args)
+        &["--frames", "3", "--dump-frames", dump.to_str().unwrap()],
+    )
 }
 
 #[test]
