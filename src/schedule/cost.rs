@@ -180,6 +180,12 @@ impl CostModel {
         capped_budget(spare / spent * triangles as f64)
     }
 
+    /// The per-triangle cost where the frames are, s ([`Self::floor_s`]),
+    /// once measured; `None` before [`FLOOR_SLOPES`] slopes.
+    pub(super) fn local_per_triangle_s(&self) -> Option<f32> {
+        (self.slopes >= FLOOR_SLOPES).then_some(self.local_per_triangle_s)
+    }
+
     /// The time of a frame of `triangles` by the learned per-triangle cost
     /// (the proportional reading), s.
     pub(super) fn frame_s(&self, triangles: u64) -> f32 {

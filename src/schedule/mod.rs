@@ -129,6 +129,15 @@ pub struct ReactiveSettings {
     /// A frame faster than this fraction of the period means the load has
     /// dropped: the ceiling is lifted.
     pub clear_ratio: f32,
+    /// Whether a frame over the period after one over it, under a load
+    /// that lasts, moves `s` to where the frame's own cost says it fits
+    /// (the reactive scheduler, fed back through
+    /// [`ReactiveScheduler::observe`] with a cost model): the triangles
+    /// above the coarsest LODs at the cost model's local per-triangle cost,
+    /// following `s` with an exponent learned from the frames. Without it
+    /// the step is the proportional one, which takes a frame or more per
+    /// halving where the triangles follow `s` weakly.
+    pub fit_step_to_cost: bool,
 }
 
 impl ReactiveSettings {
@@ -150,6 +159,7 @@ impl ReactiveSettings {
             max_raise: 1.25,
             spike_ratio: 2.0,
             clear_ratio: 0.5,
+            fit_step_to_cost: true,
         })
     }
 
@@ -162,6 +172,7 @@ impl ReactiveSettings {
             variation_z: 0.0,
             settle_frames: 1,
             steer_to_band_middle: false,
+            fit_step_to_cost: false,
             ..self
         }
     }
@@ -238,6 +249,23 @@ const MIN_LOWER_FACTOR: f32 = 0.98;
 /// but, after a noisy frame, to a quarter of the `s` that held the rate,
 /// and took a second to climb back.
 const MAX_DESCENT_GAIN: f32 = 1.0;
+
+/// How a frame's triangles above the coarsest follow `s` (the exponent
+/// of a power law) before any move of `s` has shown it: in proportion.
+const INITIAL_SCALE_ELASTICITY: f32 = 1.0;
+/// The range the learned exponent is kept in: a quarter (a step down
+/// then cuts `s` at most by the fourth power of the time it must save)
+/// to two (the quadratic cost the gain is sized for).
+const SCALE_ELASTICITY_RANGE: (f32, f32) = (0.25, 2.0);
+/// Weight of one move of `s` in the learned exponent.
+const SCALE_ELASTICITY_RATE: f32 = 0.3;
+/// The smallest move of `s` between two frames, in log terms, that
+/// teaches the exponent: smaller moves are lost in what the view alone
+/// changes from frame to frame.
+const SCALE_ELASTICITY_MIN_MOVE: f32 = 0.15;
+/// The largest factor by which `s` falls in one frame when the step is
+/// fitted to the frame's cost (`ReactiveScheduler::fitted_step`).
+const MAX_FITTED_FALL: f32 = 16.0;
 
 /// Weight of a frame in the learned relative variation.
 const VARIATION_RATE: f32 = 0.05;
@@ -379,7 +407,17 @@ impl FrameStats {
 /// (another task's work, a spike of many frames) is remembered with the
 /// `s` before it: when the frame time steps down again by as much, `s`
 /// returns there at once instead of climbing back by the raise rule,
-/// whose steps are small where the frame has much fixed time.
+/// whose steps are small where the frame has much fixed time. Under such a
+/// load, a frame over the period after one over it moves `s` to where that
+/// frame's own cost says it fits
+/// ([`ReactiveSettings::fit_step_to_cost`]; fed back through
+/// [`observe`](Self::observe) with a cost model): the frame less its
+/// triangles above the coarsest LODs (at the cost model's local cost)
+/// stays, and those triangles follow `s` by an exponent learned from the
+/// frames' moves of `s` (where they follow it weakly, a step sized for a
+/// proportional cost leaves several frames of a load late). Limited to
+/// loads that last, since a frame late by jitter says nothing of how far
+/// `s` must fall.
 #[derive(Clone, Debug)]
 pub struct ReactiveScheduler {
     settings: ReactiveSettings,
@@ -406,6 +444,15 @@ pub struct ReactiveScheduler {
     /// far below the dead band: `s` rises after each such frame, not after
     /// [`ReactiveSettings::settle_frames`] of them.
     climbing: bool,
+    /// The frame being fed back through [`Self::observe`]: the triangles
+    /// it drew and those of every visible object's coarsest LOD.
+    drawn: Option<(u64, u64)>,
+    /// The last frame fed back through [`Self::observe`]: its `s` and its
+    /// triangles above the coarsest.
+    last_drawn: Option<(f32, f32)>,
+    /// The learned exponent of `s` that the triangles above the coarsest
+    /// follow (`d ln triangles / d ln s`).
+    scale_elasticity: f32,
 }
 
 impl ReactiveScheduler {
@@ -426,6 +473,9 @@ impl ReactiveScheduler {
             descent: None,
             cost: None,
             climbing: false,
+            drawn: None,
+            last_drawn: None,
+            scale_elasticity: INITIAL_SCALE_ELASTICITY,
         }
     }
 
@@ -476,7 +526,20 @@ impl ReactiveScheduler {
             c.observe(frame_time_s, triangles);
             c.floor_s(coarsest_triangles)
         });
-        self.update_with_floor(frame_time_s, floor_s)
+        if frame_time_s.is_finite() && frame_time_s > 0.0 {
+            self.learn_elasticity(triangles.saturating_sub(coarsest_triangles));
+            self.drawn = Some((triangles, coarsest_triangles));
+        }
+        let scale = self.update_with_floor(frame_time_s, floor_s);
+        self.drawn = None;
+        scale
+    }
+
+    /// The learned exponent of `s` that a frame's triangles above the
+    /// coarsest follow (1 until moves of `s` fed back through
+    /// [`observe`](Self::observe) show it; kept within 0.25 to 2).
+    pub fn scale_elasticity(&self) -> f32 {
+        self.scale_elasticity
     }
 
     /// The current `s`.
@@ -580,10 +643,23 @@ impl ReactiveScheduler {
             } else {
                 st.gain
             };
+            // A miss after a miss under a load that lasts (not jitter):
+            // the step fits the frame's cost.
+            let again = missed
+                && st.fit_step_to_cost
+                && self.before_load.is_some()
+                && (self.descent.is_some() || self.stats.over >= 2);
             self.descent = missed.then_some((old, frame_time_s));
             // At least a 2% step: a frame barely over its aim would otherwise
             // creep towards the next LOD step for hundreds of frames.
-            self.scale = (old * ratio.powf(-gain).min(MIN_LOWER_FACTOR)).max(st.min_scale);
+            let mut next = old * ratio.powf(-gain).min(MIN_LOWER_FACTOR);
+            if again
+                && let Some(factor) =
+                    self.fitted_step(frame_time_s, st.steer_s(aim, self.stats.sigma()))
+            {
+                next = next.min(old * factor);
+            }
+            self.scale = next.max(st.min_scale);
         } else if settled && self.stats.calm >= settle_frames {
             let level = self.stats.level_s.max(frame_time_s);
             if level < st.clear_ratio * st.target_frame_s {
@@ -625,6 +701,44 @@ impl ReactiveScheduler {
 }
 
 impl ReactiveScheduler {
+    /// The factor of `s` that brings a frame of `frame_s` to `steer_s`
+    /// (both s) by the frame's own cost: its triangles above the coarsest
+    /// cost the cost model's local per-triangle cost, the rest of the
+    /// frame stays, and those triangles follow `s` with the learned
+    /// exponent. At least `1 / MAX_FITTED_FALL` (a floor above `steer_s`
+    /// asks for that). `None` without a cost model whose local cost is
+    /// measured, or outside [`observe`](Self::observe), or where the frame
+    /// drew nothing above its coarsest LODs.
+    fn fitted_step(&self, frame_s: f32, steer_s: f32) -> Option<f32> {
+        let per_triangle_s = self.cost.as_ref()?.local_per_triangle_s()?;
+        let (triangles, coarsest) = self.drawn?;
+        let above_s = per_triangle_s * triangles.saturating_sub(coarsest) as f32;
+        if !(above_s > 0.0 && above_s.is_finite()) {
+            return None;
+        }
+        let kept_s = frame_s - above_s;
+        let fraction = ((steer_s - kept_s) / above_s).clamp(0.0, 1.0);
+        let factor = fraction.powf(1.0 / self.scale_elasticity);
+        Some(factor.max(1.0 / MAX_FITTED_FALL))
+    }
+
+    /// Learns how the triangles above the coarsest (`above`, of the frame
+    /// drawn at the current `s`) follow `s`, from a move of `s` since the
+    /// last frame fed back of at least [`SCALE_ELASTICITY_MIN_MOVE`].
+    fn learn_elasticity(&mut self, above: u64) {
+        let (scale, above) = (self.scale, above as f32);
+        if let Some((last_scale, last_above)) = self.last_drawn {
+            let moved = (scale / last_scale).ln();
+            let grew = (above / last_above).ln();
+            if moved.abs() >= SCALE_ELASTICITY_MIN_MOVE && grew.is_finite() {
+                let (low, high) = SCALE_ELASTICITY_RANGE;
+                let seen = (grew / moved).clamp(low, high);
+                self.scale_elasticity += SCALE_ELASTICITY_RATE * (seen - self.scale_elasticity);
+            }
+        }
+        self.last_drawn = Some((scale, above));
+    }
+
     /// The exponent of a step down after a frame of `frame_s` over the
     /// period at `scale`. The gain (0.5) is sized for a frame cost up to
     /// quadratic in `s`; where the last step down, also after a frame over
