@@ -444,9 +444,6 @@ pub struct ReactiveScheduler {
     /// far below the dead band: `s` rises after each such frame, not after
     /// [`ReactiveSettings::settle_frames`] of them.
     climbing: bool,
-    /// The frame being fed back through [`Self::observe`]: the triangles
-    /// it drew and those of every visible object's coarsest LOD.
-    drawn: Option<(u64, u64)>,
     /// The last frame fed back through [`Self::observe`]: its `s` and its
     /// triangles above the coarsest.
     last_drawn: Option<(f32, f32)>,
@@ -473,7 +470,6 @@ impl ReactiveScheduler {
             descent: None,
             cost: None,
             climbing: false,
-            drawn: None,
             last_drawn: None,
             scale_elasticity: INITIAL_SCALE_ELASTICITY,
         }
@@ -526,13 +522,11 @@ impl ReactiveScheduler {
             c.observe(frame_time_s, triangles);
             c.floor_s(coarsest_triangles)
         });
+        let above = triangles.saturating_sub(coarsest_triangles);
         if frame_time_s.is_finite() && frame_time_s > 0.0 {
-            self.learn_elasticity(triangles.saturating_sub(coarsest_triangles));
-            self.drawn = Some((triangles, coarsest_triangles));
+            self.learn_elasticity(above);
         }
-        let scale = self.update_with_floor(frame_time_s, floor_s);
-        self.drawn = None;
-        scale
+        self.step(frame_time_s, floor_s, Some(above))
     }
 
     /// The learned exponent of `s` that a frame's triangles above the
@@ -593,6 +587,13 @@ impl ReactiveScheduler {
     /// [`target_unreachable`](Self::target_unreachable) says so. A floor
     /// that is `None` or not finite is unknown.
     pub fn update_with_floor(&mut self, frame_time_s: f32, floor_s: Option<f32>) -> f32 {
+        self.step(frame_time_s, floor_s, None)
+    }
+
+    /// As [`update_with_floor`](Self::update_with_floor), told the frame's
+    /// triangles above its coarsest LODs where it was fed back through
+    /// [`observe`](Self::observe) (for [`Self::fitted_step`]).
+    fn step(&mut self, frame_time_s: f32, floor_s: Option<f32>, above: Option<u64>) -> f32 {
         if !(frame_time_s.is_finite() && frame_time_s > 0.0) {
             return self.scale;
         }
@@ -654,8 +655,9 @@ impl ReactiveScheduler {
             // creep towards the next LOD step for hundreds of frames.
             let mut next = old * ratio.powf(-gain).min(MIN_LOWER_FACTOR);
             if again
-                && let Some(factor) =
-                    self.fitted_step(frame_time_s, st.steer_s(aim, self.stats.sigma()))
+                && let Some(factor) = above.and_then(|above| {
+                    self.fitted_step(frame_time_s, st.steer_s(aim, self.stats.sigma()), above)
+                })
             {
                 next = next.min(old * factor);
             }
@@ -702,17 +704,16 @@ impl ReactiveScheduler {
 
 impl ReactiveScheduler {
     /// The factor of `s` that brings a frame of `frame_s` to `steer_s`
-    /// (both s) by the frame's own cost: its triangles above the coarsest
-    /// cost the cost model's local per-triangle cost, the rest of the
-    /// frame stays, and those triangles follow `s` with the learned
-    /// exponent. At least `1 / MAX_FITTED_FALL` (a floor above `steer_s`
-    /// asks for that). `None` without a cost model whose local cost is
-    /// measured, or outside [`observe`](Self::observe), or where the frame
-    /// drew nothing above its coarsest LODs.
-    fn fitted_step(&self, frame_s: f32, steer_s: f32) -> Option<f32> {
+    /// (both s) by the frame's own cost: its `above` triangles above the
+    /// coarsest LODs cost the cost model's local per-triangle cost, the
+    /// rest of the frame stays, and those triangles follow `s` with the
+    /// learned exponent. At least `1 / MAX_FITTED_FALL` (a floor above
+    /// `steer_s` asks for that). `None` without a cost model whose local
+    /// cost is measured, or where the frame drew nothing above its
+    /// coarsest LODs.
+    fn fitted_step(&self, frame_s: f32, steer_s: f32, above: u64) -> Option<f32> {
         let per_triangle_s = self.cost.as_ref()?.local_per_triangle_s()?;
-        let (triangles, coarsest) = self.drawn?;
-        let above_s = per_triangle_s * triangles.saturating_sub(coarsest) as f32;
+        let above_s = per_triangle_s * above as f32;
         if !(above_s > 0.0 && above_s.is_finite()) {
             return None;
         }
