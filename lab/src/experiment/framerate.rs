@@ -320,6 +320,13 @@ pub struct HeldRate {
     /// [`over_settled_with_room`](Self::over_settled_with_room) counts
     /// outside the spikes.
     pub over_in_spikes_with_room: f64,
+    /// Of the frames from each spike's third on, the share late as
+    /// [`over_in_spikes_with_room`](Self::over_in_spikes_with_room)
+    /// counts them: what is left once a blind controller has seen the load
+    /// in the spike's first frame and stepped for it in its second. A
+    /// spike's frames are counted from its first, the frame after one
+    /// outside the spikes.
+    pub over_in_spikes_from_third_with_room: f64,
     /// Share of the frames within the spikes whose cost floor lay above
     /// the scheduler's aim (out of reach included): the frames the target
     /// was held in, if at all, only by their jitter; `None` without a
@@ -383,19 +390,38 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
             let over = |f: &crate::player::FrameRecord| f.frame_ms * 1e-3 > budget_s;
             let (inside, outside): (Vec<_>, Vec<_>) = r.frames.iter().partition(|f| f.in_spike);
             let told = r.policy == Policy::AcuityPredictiveAnnounced;
-            // A spike's first frame: the frame before it (in the run) was
-            // outside.
-            let first_of_spike = |f: &crate::player::FrameRecord| {
-                f.frame > 0
-                    && r.frames
-                        .iter()
-                        .find(|g| g.frame + 1 == f.frame)
-                        .is_some_and(|g| !g.in_spike)
-            };
+            // Each frame's place in its spike by frame number: 1 for the
+            // first, whose frame before was outside the spikes (or not
+            // played), 0 outside the spikes.
+            let mut by_frame: Vec<_> = r.frames.iter().collect();
+            by_frame.sort_by_key(|f| f.frame);
+            let mut place_in_spike = std::collections::HashMap::new();
+            let mut place = 0u32;
+            let mut last_frame = None;
+            for f in by_frame {
+                let follows_spike_frame = last_frame.is_some_and(|n: u32| n + 1 == f.frame);
+                place = match (f.in_spike, follows_spike_frame) {
+                    (false, _) => 0,
+                    (true, true) => place + 1,
+                    (true, false) => 1,
+                };
+                last_frame = f.in_spike.then_some(f.frame);
+                place_in_spike.insert(f.frame, place);
+            }
+            let place = |f: &crate::player::FrameRecord| place_in_spike.get(&f.frame).copied();
+            let first_of_spike = |f: &crate::player::FrameRecord| place(f) == Some(1);
+            let from_third: Vec<_> = inside
+                .iter()
+                .copied()
+                .filter(|f| place(f).is_some_and(|k| k >= 3))
+                .collect();
             let sees_floor = r.frames.iter().any(|f| f.target_unreachable.is_some());
             let unreachable = |f: &crate::player::FrameRecord| f.target_unreachable == Some(true);
             let floor_above_aim = |f: &crate::player::FrameRecord| {
                 matches!((f.cost_floor_ms, f.aim_ms), (Some(floor), Some(aim)) if floor > aim)
+            };
+            let late_with_room = |f: &crate::player::FrameRecord| {
+                over(f) && !f.at_limit && !unreachable(f) && !floor_above_aim(f)
             };
             let settled: Vec<_> = outside
                 .iter()
@@ -413,12 +439,9 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
                     .then(|| share(&inside, |f| over(f) && !unreachable(f))),
                 over_in_spikes_at_limit: share(&inside, |f| over(f) && f.at_limit),
                 over_in_spikes_with_room: share(&inside, |f| {
-                    over(f)
-                        && !f.at_limit
-                        && !unreachable(f)
-                        && !floor_above_aim(f)
-                        && (told || !first_of_spike(f))
+                    late_with_room(f) && (told || !first_of_spike(f))
                 }),
+                over_in_spikes_from_third_with_room: share(&from_third, late_with_room),
                 floor_above_aim_in_spikes: sees_floor.then(|| share(&inside, floor_above_aim)),
                 unreachable_outside_spikes: sees_floor.then(|| share(&outside, unreachable)),
                 at_limit_settled: share(&settled, |f| f.at_limit),
@@ -444,7 +467,8 @@ fn pct(v: Option<f64>) -> String {
 /// out of reach and over while reachable, the floor above the aim
 /// (`in:flr>aim%`), over with the knob at its end (`in:lim%`) and short of
 /// it with the floor below the aim (`in:room%`, each spike's first frame
-/// not counted for a policy not told of the load), once
+/// not counted for a policy not told of the load; `in:room3%`: the same
+/// among each spike's frames from its third on), once
 /// settled the floor above the aim, the late frames with room and the
 /// frames with the knob at its end (`lim%set`), switches, reversals,
 /// triangles, `s` and JOD.
@@ -452,7 +476,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
+        "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>8} {:>6} {:>6} {:>7} {:>10} {:>5} {:>6}",
         "policy",
         "over% out",
         "over% set",
@@ -462,6 +486,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
         "in:flr>aim%",
         "in:lim%",
         "in:room%",
+        "in:room3%",
         "unr%out",
         "flr>aim%",
         "over%room",
@@ -476,7 +501,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
     for r in rows {
         let _ = writeln!(
             t,
-            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>7} {:>8} {:>9} {:>8} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
+            "{:<32} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11} {:>8} {:>8} {:>9} {:>7} {:>8} {:>9} {:>8} {:>6.1} {:>6.1} {:>7.1} {:>10.0} {:>5.2} {:>6}",
             r.policy.label(r.knob),
             pct(Some(r.over_outside_spikes)),
             pct(Some(r.over_settled)),
@@ -486,6 +511,7 @@ pub fn held_table(rows: &[HeldRate]) -> String {
             pct(r.floor_above_aim_in_spikes),
             pct(Some(r.over_in_spikes_at_limit)),
             pct(Some(r.over_in_spikes_with_room)),
+            pct(Some(r.over_in_spikes_from_third_with_room)),
             pct(r.unreachable_outside_spikes),
             pct(r.floor_above_aim_settled),
             pct(r.over_settled_with_room),
@@ -504,13 +530,13 @@ pub fn held_table(rows: &[HeldRate]) -> String {
 /// The schedulers' table as CSV (shares as fractions).
 pub fn held_csv(rows: &[HeldRate]) -> String {
     let mut t = String::from(
-        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room,at_limit_settled,floor_above_aim_in_spikes\n",
+        "policy,over_outside_spikes,over_settled,over_in_spikes,unreachable_in_spikes,over_reachable_in_spikes,unreachable_outside_spikes,floor_above_aim_settled,over_settled_with_room,lod_switches_per_s,lod_reversals_per_s,triangles,mean_scale,jod,lod_slow_reversals_per_s,over_in_spikes_at_limit,over_in_spikes_with_room,at_limit_settled,floor_above_aim_in_spikes,over_in_spikes_from_third_with_room\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
     for r in rows {
         let _ = writeln!(
             t,
-            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4},{:.4},{}",
+            "{},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.1},{:.4},{},{:.3},{:.4},{:.4},{:.4},{},{:.4}",
             r.policy.label(r.knob),
             r.over_outside_spikes,
             r.over_settled,
@@ -530,6 +556,7 @@ pub fn held_csv(rows: &[HeldRate]) -> String {
             r.over_in_spikes_with_room,
             r.at_limit_settled,
             o(r.floor_above_aim_in_spikes),
+            r.over_in_spikes_from_third_with_room,
         );
     }
     t
@@ -550,7 +577,7 @@ mod tests {
     fn floored(t_s: f64, frame_ms: f64, in_spike: bool, floor_ms: f64) -> FrameRecord {
         FrameRecord {
             policy: Policy::AcuityReactive,
-            frame: (t_s * 10.0) as u32,
+            frame: (t_s * 10.0).round() as u32,
             t_s,
             frame_ms,
             select_ms: 0.0,
@@ -656,6 +683,9 @@ mod tests {
         assert_eq!(held.over_in_spikes_at_limit, 1.0 / 6.0);
         assert_eq!(held.over_in_spikes_with_room, 1.0 / 6.0);
         assert_eq!(held.floor_above_aim_in_spikes, Some(2.0 / 6.0));
+        // From the third frame on: the knob at its end, out of reach, the
+        // floor above the aim, on time; none late with room.
+        assert_eq!(held.over_in_spikes_from_third_with_room, 0.0);
         // Told of the load, the first frame counts too.
         let runs = [PolicyRun {
             policy: Policy::AcuityPredictiveAnnounced,
@@ -665,5 +695,32 @@ mod tests {
         }];
         let told = held_rates(&runs, &summarize(&runs, 0.1), 0.1).remove(0);
         assert_eq!(told.over_in_spikes_with_room, 2.0 / 6.0);
+        assert_eq!(told.over_in_spikes_from_third_with_room, 0.0);
+    }
+
+    #[test]
+    fn late_frames_with_room_are_counted_from_each_spikes_third_frame() {
+        // A 100 ms period and a 90 ms aim; two spikes of four frames, each
+        // late with room in its first two frames, the first spike in its
+        // fourth too, the second in its third; a spike frame after a
+        // frame not played starts a spike of its own.
+        let frames = vec![
+            frame(0.9, 90.0, false),
+            frame(1.0, 150.0, true),
+            frame(1.1, 120.0, true),
+            frame(1.2, 90.0, true),
+            frame(1.3, 110.0, true),
+            frame(1.4, 90.0, false),
+            frame(2.0, 150.0, true),
+            frame(2.1, 120.0, true),
+            frame(2.2, 130.0, true),
+            frame(2.3, 80.0, true),
+            frame(2.5, 120.0, true),
+            frame(2.6, 120.0, true),
+        ];
+        let held = held_at_100_ms(frames);
+        assert_eq!(held.over_in_spikes_from_third_with_room, 2.0 / 4.0);
+        // Each spike's first frame is left out of the blind policy's share.
+        assert_eq!(held.over_in_spikes_with_room, 5.0 / 10.0);
     }
 }
