@@ -5,6 +5,9 @@
 //! The CSV is the plain kind acuity writes: a header row of column names,
 //! then rows of comma-separated fields with no quoting. Rows whose x or y
 //! field is not a finite number are left out (and counted in the message).
+//! Each line joins its points in order of x, so a file whose rows are not
+//! sorted (sweeps appended run by run) still draws each curve once; points
+//! with the same x keep the file's order.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -52,8 +55,8 @@ pub fn parse_filter(text: &str) -> Result<(String, String), String> {
 }
 
 /// The lines of a plot from CSV `text`: `(name, points)` per group, in
-/// order of the group's name, points in file order; and how many kept rows
-/// had no number where x or y should be.
+/// order of the group's name, points in order of x (file order among equal
+/// x); and how many kept rows had no number where x or y should be.
 pub fn series_from_csv(text: &str, args: &PlotArgs) -> anyhow::Result<(Vec<Series>, usize)> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     let header: Vec<&str> = lines
@@ -108,13 +111,16 @@ pub fn series_from_csv(text: &str, args: &PlotArgs) -> anyhow::Result<(Vec<Serie
     }
     let series = by_group
         .into_iter()
-        .map(|(name, points)| Series {
-            name: if name.is_empty() {
-                args.y.clone()
-            } else {
-                name
-            },
-            points,
+        .map(|(name, mut points)| {
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            Series {
+                name: if name.is_empty() {
+                    args.y.clone()
+                } else {
+                    name
+                },
+                points,
+            }
         })
         .collect();
     Ok((series, skipped))
@@ -193,6 +199,16 @@ mod tests {
         let (one, _) = series_from_csv(CSV, &args(&[], &[])).unwrap();
         assert_eq!(one.len(), 1);
         assert_eq!(one[0].name, "jod");
+    }
+
+    #[test]
+    fn each_line_joins_its_points_in_order_of_x() {
+        let csv = "rate,eyes,policy,jod\n30,fixed,all,9.1\n0,fixed,all,9.5\n15,fixed,all,9.3\n15,fixed,all,9.2\n";
+        let (s, _) = series_from_csv(csv, &args(&["policy"], &[])).unwrap();
+        assert_eq!(
+            s[0].points,
+            vec![(0.0, 9.5), (15.0, 9.3), (15.0, 9.2), (30.0, 9.1)]
+        );
     }
 
     #[test]
