@@ -590,3 +590,73 @@ fn fvvdp_failures_say_why() {
     let stderr = run(&fake_python(&dir, 1));
     assert!(stderr.contains("fake failure"), "{stderr}");
 }
+
+#[test]
+fn fixed_budgets_are_one_count_for_every_frame_from_full_details_mean() {
+    let dir = scratch("fixed_budgets");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, TINY).unwrap();
+    let out = dir.join("error");
+    let mut args = vec![
+        "experiment",
+        "error",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--frames",
+        "4",
+        "--flip-every",
+        "1000",
+        "--biases",
+        "1",
+        "--scales",
+        "1",
+        "--acuity-policies",
+        "acuity_all",
+        "--budgets",
+        "0.5",
+        "--fixed-budgets",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(COARSE);
+    let o = acuity(&args);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let error = std::fs::read_to_string(out.join("error.csv")).unwrap();
+    let header: Vec<&str> = error.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|&h| h == name).unwrap();
+    let value = |policy: &str, name: &str| -> f64 {
+        error
+            .lines()
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .find(|r| r[0] == policy)
+            .unwrap_or_else(|| panic!("{policy}: {error}"))[column(name)]
+        .parse()
+        .unwrap()
+    };
+    // The count is full detail's mean triangles in view, said on stderr.
+    let full_mean = value("full", "triangles");
+    let said: f64 = stderr
+        .split("budgets fixed at their share of ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no fixed count said: {stderr}"));
+    assert!(
+        (said - full_mean).abs() <= 0.5,
+        "{said} against {full_mean}"
+    );
+    // No frame of a budgeted policy draws more than half of it.
+    for policy in [
+        "acuity_best_effort",
+        "acuity_best_effort_pooled",
+        "acuity_budget_uniform",
+    ] {
+        let most = value(policy, "triangles_max");
+        assert!(
+            most <= (0.5 * full_mean).floor(),
+            "{policy}: {most} in a frame against a budget of {}",
+            0.5 * full_mean
+        );
+    }
+}

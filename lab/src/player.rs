@@ -44,6 +44,12 @@ pub struct PlaySettings {
     /// Dump every played frame, and full detail's, into this folder
     /// ([`FrameDump`]); `None` by default.
     pub dump_dir: Option<PathBuf>,
+    /// The triangles a budgeted policy's share is of: `None` (default)
+    /// full detail's triangles in view in the frame before, so the budget
+    /// follows the objects in view; `Some(n)` (finite, > 0) a fixed count,
+    /// so each share is one budget for every frame, as an engine's frame
+    /// budget is.
+    pub fixed_budget_base_triangles: Option<f64>,
 }
 
 impl PlaySettings {
@@ -67,6 +73,7 @@ impl PlaySettings {
             keep_images: true,
             load_spikes: Vec::new(),
             dump_dir: None,
+            fixed_budget_base_triangles: None,
         })
     }
 }
@@ -322,6 +329,9 @@ impl<'w> Player<'w> {
                 let mut r = PolicyRunner::new(world, p, bias, cost)?;
                 if p != Policy::Full && !p.knob_is_bias() {
                     r.set_knob(knob);
+                }
+                if let Some(base) = self.settings.fixed_budget_base_triangles {
+                    r.fix_budget_base(base);
                 }
                 Ok(r)
             })

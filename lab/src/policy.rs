@@ -188,6 +188,9 @@ pub struct PolicyRunner {
     /// Full detail's triangles over the objects in view last frame (all
     /// objects before the first): what the share applies to.
     full_detail_triangles: u64,
+    /// A fixed count the budget share is of, in place of
+    /// `full_detail_triangles` ([`PolicyRunner::fix_budget_base`]).
+    fixed_budget_base: Option<f64>,
     /// The matched policies' ([`Policy::is_matched`]) culling selector: the
     /// objects in view this frame, whose screen-size triangles make the
     /// budget.
@@ -353,6 +356,7 @@ impl PolicyRunner {
                 .iter()
                 .map(|i| u64::from(world.objects[i.object].profile.lod_triangles[0]))
                 .sum(),
+            fixed_budget_base: None,
             screen_fades: (policy.is_screen_size() && cross_fade_s > 0.0)
                 .then(|| CrossFades::new(cross_fade_s)),
             fades: Vec::new(),
@@ -382,6 +386,15 @@ impl PolicyRunner {
             self.budget_share = Some(if knob > 0.0 { knob.min(1.0) } else { 1.0 });
         } else {
             self.set_scale(knob);
+        }
+    }
+
+    /// Makes a budgeted policy's share one of `triangles` (finite, > 0;
+    /// otherwise ignored) in every frame, in place of full detail's
+    /// triangles in view in the frame before.
+    pub fn fix_budget_base(&mut self, triangles: f64) {
+        if triangles.is_finite() && triangles > 0.0 {
+            self.fixed_budget_base = Some(triangles);
         }
     }
 
@@ -457,7 +470,12 @@ impl PolicyRunner {
             (Some(Scheduler::PredictiveNoHeadroom(cost)), _) => {
                 Some(cost.triangle_budget(1.0 / world.scene.run.target_hz as f32))
             }
-            (_, Some(share)) => Some((share * self.full_detail_triangles as f64) as u64),
+            (_, Some(share)) => Some(
+                (share
+                    * self
+                        .fixed_budget_base
+                        .unwrap_or(self.full_detail_triangles as f64)) as u64,
+            ),
             _ => matched_budget,
         };
         match budget {

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use crate::dump::{Metric, check_fvvdp, score_fvvdp};
+use crate::frames::World;
 use crate::player::{PlaySettings, Player};
 use crate::plot::{LinePlot, Series, save_line_plot};
 use crate::report::{Summary, attach_jod, summarize};
@@ -47,6 +48,13 @@ pub struct ErrorArgs {
     /// (default: none).
     #[cfg_attr(feature = "clap", arg(long, value_delimiter = ','))]
     pub budgets: Vec<f64>,
+    /// Make each budget one fixed triangle count for every frame, as an
+    /// engine's frame budget is: its share of full detail's mean triangles
+    /// in view over the path (measured first, by playing full detail
+    /// alone), instead of a share of full detail's triangles in view frame
+    /// by frame.
+    #[cfg_attr(feature = "clap", arg(long))]
+    pub fixed_budgets: bool,
     /// Also run `acuity_best_effort_matched` at each screen-size bias:
     /// best effort under, in each frame, the triangles screen size draws
     /// in that frame, so the two rankings meet at equal triangles frame by
@@ -99,6 +107,7 @@ impl Default for ErrorArgs {
             scales: vec![1.0, 0.5, 0.25, 0.125, 0.0625],
             acuity_policies: vec!["acuity_size".into(), "acuity_all".into()],
             budgets: Vec::new(),
+            fixed_budgets: false,
             matched: false,
             frames: 30,
             flip_every: 3,
@@ -174,6 +183,14 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         .dump_frames
         .clone()
         .or_else(|| fvvdp.then(|| out.join("frames")));
+    if args.fixed_budgets && !args.budgets.is_empty() {
+        let base = full_detail_mean_triangles(&world, &settings)?;
+        settings.fixed_budget_base_triangles = Some(base);
+        // Said even with --quiet: the budgets' counts are part of the result.
+        eprintln!(
+            "budgets fixed at their share of {base:.0} triangles a frame (full detail's mean in view)"
+        );
+    }
     let mut configs = vec![(Policy::Full, 1.0)];
     configs.extend(args.biases.iter().map(|&b| (Policy::ScreenSize, b)));
     for &p in &acuity_policies {
@@ -287,6 +304,21 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
         );
     }
     Ok(sweep)
+}
+
+/// Full detail's mean triangles a frame in view over the path: full detail
+/// played alone, with no metric and nothing dumped.
+fn full_detail_mean_triangles(world: &World, settings: &PlaySettings) -> anyhow::Result<f64> {
+    let mut alone = settings.clone();
+    alone.flip_every_n_frames = 0;
+    alone.keep_images = false;
+    alone.dump_dir = None;
+    let runs = Player::new(world, alone)?.play_configs(&[(Policy::Full, 1.0)], 1.0)?;
+    let frames = &runs[0].frames;
+    if frames.is_empty() {
+        crate::bail_input!("full detail played no frame to fix the budgets by");
+    }
+    Ok(frames.iter().map(|f| f.triangles as f64).sum::<f64>() / frames.len() as f64)
 }
 
 /// One configuration of an error sweep: its summary and its triangles
