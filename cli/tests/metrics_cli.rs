@@ -8,7 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{COARSE, TINY_SCENE as TINY, acuity, run_policies};
+use common::{COARSE, TINY_SCENE as TINY, acuity, run_policies, tiny_scene};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("metrics_cli", name)
@@ -17,8 +17,7 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn experiments_run_small_and_write_their_files() {
     let dir = scratch("experiments");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let s = scene.to_str().unwrap();
     let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
     let runs: [(Vec<String>, &str, &str); 3] = [
@@ -296,8 +295,7 @@ fn run_dumping(scene: &Path, out: &Path, dump: &Path, policies: &str) -> std::pr
 #[test]
 fn dump_frames_writes_every_sequence_with_gaze_and_display() {
     let dir = scratch("dump");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let dump = dir.join("frames");
     // No `full`: its frames are dumped as the reference anyway.
     let o = run_dumping(&scene, &dir.join("out"), &dump, "screen_size,acuity_size");
@@ -445,8 +443,7 @@ echo "$out}}"
 #[test]
 fn fvvdp_scores_from_the_script_reach_table_csv_and_plots() {
     let dir = scratch("fvvdp_fake");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let s = scene.to_str().unwrap();
     let python = fake_python(&dir, 0);
 
@@ -561,8 +558,7 @@ fn fvvdp_scores_from_the_script_reach_table_csv_and_plots() {
 #[test]
 fn fvvdp_failures_say_why() {
     let dir = scratch("fvvdp_fail");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let out = dir.join("out");
     let run = |python: &Path| {
         let mut args = vec![
@@ -594,8 +590,7 @@ fn fvvdp_failures_say_why() {
 #[test]
 fn fixed_budgets_are_one_count_for_every_frame_from_full_details_mean() {
     let dir = scratch("fixed_budgets");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let out = dir.join("error");
     let mut args = vec![
         "experiment",

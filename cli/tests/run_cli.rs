@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{COARSE, TINY_SCENE as TINY, acuity, coarse, run_policies};
+use common::{COARSE, TINY_SCENE as TINY, acuity, coarse, run_policies, tiny_scene};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("run_cli", name)
@@ -15,8 +15,7 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn tiny_run_never_draws_more_than_full_detail_and_full_has_zero_flip() {
     let dir = scratch("tiny");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let out = dir.join("out");
     let o = acuity(&coarse(&[
         "run",
@@ -111,8 +110,7 @@ fn run_triangles(
 #[test]
 fn cross_fades_draw_the_lod_going_as_well_and_leave_the_choices_alone() {
     let dir = scratch("cross_fade");
-    let scene = dir.join("tiny.toml");
-    std::fs::write(&scene, TINY).unwrap();
+    let scene = tiny_scene(&dir);
     let run = |name: &str, extra: &[&str]| {
         run_triangles(&dir, &scene, name, "16", "screen_size,acuity_all", extra)
     };

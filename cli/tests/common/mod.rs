@@ -17,6 +17,13 @@ pub fn scratch(suite: &str, test: &str) -> PathBuf {
     dir
 }
 
+/// Writes [`TINY_SCENE`] into `dir` as `tiny.toml`; its path.
+pub fn tiny_scene(dir: &Path) -> PathBuf {
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, TINY_SCENE).unwrap();
+    scene
+}
+
 /// Runs `acuity ARGS` and waits for it.
 pub fn acuity(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_acuity"))
