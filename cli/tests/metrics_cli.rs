@@ -654,4 +654,20 @@ fn fixed_budgets_are_one_count_for_every_frame_from_full_details_mean() {
             0.5 * full_mean
         );
     }
+    // Without budgets to fix the flag is refused, naming what is missing.
+    let mut bare = args.clone();
+    bare.retain(|&a| a != "--budgets" && a != "0.5");
+    let o = acuity(&bare);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&o.stderr)
+            .contains("--fixed-budgets fixes the budgets of --budgets"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }

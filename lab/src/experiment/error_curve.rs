@@ -136,6 +136,9 @@ pub fn error(args: &ErrorArgs) -> anyhow::Result<ErrorSweep> {
     if let Some(b) = args.budgets.iter().find(|b| !(**b > 0.0 && **b <= 1.0)) {
         crate::bail_input!("budget share {b} is not in (0, 1]");
     }
+    if args.fixed_budgets && args.budgets.is_empty() {
+        crate::bail_input!("--fixed-budgets fixes the budgets of --budgets, and none is given");
+    }
     let mut acuity_policies = Vec::new();
     for name in &args.acuity_policies {
         let p = crate::scene::policy_by_name(name)?;
