@@ -493,7 +493,8 @@ impl PolicyRunner {
         if !(self.policy == Policy::Full || self.policy.is_screen_size()) {
             choice.visibility_deg = self.selector.selection_visibility_deg();
         }
-        if self.budget_share.is_some() {
+        // A fixed base leaves the triangles in view unused.
+        if self.budget_share.is_some() && self.fixed_budget_base.is_none() {
             self.full_detail_triangles = world
                 .instances
                 .iter()

@@ -396,17 +396,17 @@ pub fn held_rates(runs: &[PolicyRun], sums: &[Summary], budget_s: f64) -> Vec<He
             let mut by_frame: Vec<_> = r.frames.iter().collect();
             by_frame.sort_by_key(|f| f.frame);
             let mut place_in_spike = std::collections::HashMap::new();
-            let mut place = 0u32;
+            let mut run_length = 0u32;
             let mut last_frame = None;
             for f in by_frame {
                 let follows_spike_frame = last_frame.is_some_and(|n: u32| n + 1 == f.frame);
-                place = match (f.in_spike, follows_spike_frame) {
+                run_length = match (f.in_spike, follows_spike_frame) {
                     (false, _) => 0,
-                    (true, true) => place + 1,
+                    (true, true) => run_length + 1,
                     (true, false) => 1,
                 };
                 last_frame = f.in_spike.then_some(f.frame);
-                place_in_spike.insert(f.frame, place);
+                place_in_spike.insert(f.frame, run_length);
             }
             let place = |f: &crate::player::FrameRecord| place_in_spike.get(&f.frame).copied();
             let first_of_spike = |f: &crate::player::FrameRecord| place(f) == Some(1);
